@@ -1,0 +1,79 @@
+"""The ``lbw`` command line.
+
+Each subcommand is a module in this package with ``HELP`` (one line),
+``add_arguments(parser)`` and ``run(args) -> int``. ``SUBCOMMANDS`` is the
+closed registry; modules are imported only when their command runs, so
+``lbw check`` never loads the simulator.
+
+Exit codes (design.md): 0 success, 1 the task failed, 2 bad input. Errors
+derived from ``LbwError`` print one sentence and no traceback. A command that
+fails its task returns 1 *after* its output files are published; bad input
+raises ``InputError`` inside ``OutputDir`` so nothing half-written is left.
+
+This package is the only part of lbw_engine allowed to import ``perception``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from ..errors import LbwError
+
+# name -> module (relative to this package). Keep sorted by pipeline order.
+SUBCOMMANDS: dict[str, str] = {
+    "check": "check",
+    "recognize": "recognize",
+    "render": "render",
+    "watch": "watch",
+    "analyze": "analyze",
+    "execute": "execute",
+    "run": "run",
+    "demo": "demo",
+    "bench": "bench",
+}
+
+
+def _available() -> dict[str, object]:
+    """Import the registered subcommand modules that exist in this checkout."""
+    found: dict[str, object] = {}
+    for name, module in SUBCOMMANDS.items():
+        try:
+            found[name] = importlib.import_module(f"{__name__}.{module}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"{__name__}.{module}":
+                raise
+    return found
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argparse tree of all available subcommands."""
+    parser = argparse.ArgumentParser(
+        prog="lbw", description="Learning by watching: see, understand and do a block assembly."
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, module in _available().items():
+        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        module.add_arguments(p)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``lbw`` console script."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        code = args._run(args)
+    except LbwError as exc:
+        print(f"lbw {args.command}: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        return 130
+    return int(code or 0)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,66 @@
+"""Import boundaries of docs/architecture.md.
+
+The interpreter never imports perception; the seeing side of perception never
+imports the simulator, the demonstrator, the robot or the ground truth. This is
+what makes "detectors read only images" checkable: they cannot even name the
+world's state.
+"""
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+WORLD_SIDE = {"world", "demonstrator", "robot", "groundtruth", "scenario", "render"}
+SEEING_PREFIXES = ("camera", "vfd", "detectors", "envnodes", "frames", "vision")
+
+
+def _imports(path: Path) -> set[str]:
+    tree = ast.parse(path.read_text(), filename=str(path))
+    names: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:  # relative import inside perception
+                names.add("perception." + base if base else "perception")
+                names.update(f"perception.{a.name}" for a in node.names if not base)
+            else:
+                names.add(base)
+    return names
+
+
+def _modules(package: str):
+    for path in sorted((ROOT / package).rglob("*.py")):
+        yield path.relative_to(ROOT).as_posix(), path
+
+
+ENGINE = [(rel, p) for rel, p in _modules("lbw_engine") if not rel.startswith("lbw_engine/cli/")]
+SEEING = [
+    (rel, p)
+    for rel, p in _modules("perception")
+    if Path(rel).parts[1].startswith(SEEING_PREFIXES)
+]
+
+
+@pytest.mark.parametrize("rel,path", ENGINE, ids=[r for r, _ in ENGINE])
+def test_engine_does_not_import_perception(rel, path):
+    bad = {n for n in _imports(path) if n == "perception" or n.startswith("perception.")}
+    assert not bad, f"{rel} imports {sorted(bad)}"
+
+
+@pytest.mark.parametrize("rel,path", SEEING or [("none", None)], ids=[r for r, _ in SEEING] or ["none"])
+def test_seeing_side_does_not_import_the_world(rel, path):
+    if path is None:
+        pytest.skip("no seeing-side modules yet")
+    bad = set()
+    for name in _imports(path):
+        if name == "pymunk" or name.startswith("pymunk."):
+            bad.add(name)
+        parts = name.split(".")
+        if parts[0] == "perception" and len(parts) > 1 and parts[1] in WORLD_SIDE:
+            bad.add(name)
+    assert not bad, f"{rel} reaches the simulator through {sorted(bad)}"
