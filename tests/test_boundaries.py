@@ -18,18 +18,21 @@ SEEING_PREFIXES = ("camera", "vfd", "detectors", "envnodes", "frames", "vision")
 
 
 def _imports(path: Path) -> set[str]:
+    """Absolute names of every module ``path`` imports (relative ones resolved)."""
+    package = path.relative_to(ROOT).with_suffix("").parts[:-1]
     tree = ast.parse(path.read_text(), filename=str(path))
     names: set[str] = set()
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             names.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level:  # relative import inside perception
-                names.add("perception." + base if base else "perception")
-                names.update(f"perception.{a.name}" for a in node.names if not base)
+            if node.level:
+                anchor = package[: len(package) - node.level + 1]
+                base = ".".join([*anchor, node.module] if node.module else anchor)
             else:
-                names.add(base)
+                base = node.module or ""
+            names.add(base)
+            names.update(f"{base}.{alias.name}" for alias in node.names)
     return names
 
 
