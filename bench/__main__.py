@@ -1,0 +1,28 @@
+"""Run every bench/bench_*.py (or the ones named) and save their figures as JSON."""
+
+from __future__ import annotations
+
+import importlib
+import json
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+def main(argv: list[str]) -> int:
+    """Run the named benchmarks (default: all) and write bench/results/NAME.json."""
+    names = argv or sorted(p.stem.removeprefix("bench_") for p in HERE.glob("bench_*.py"))
+    results = HERE / "results"
+    results.mkdir(exist_ok=True)
+    for name in names:
+        module = importlib.import_module(f"bench.bench_{name}")
+        print(f"== bench {name}", flush=True)
+        figures = module.main([])
+        (results / f"{name}.json").write_text(json.dumps(figures, indent=1) + "\n")
+        print(f"   figures written to bench/results/{name}.json", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
