@@ -1,0 +1,135 @@
+"""Pinhole camera models: forward projection, view lines and stereo triangulation.
+
+The paper keeps calibrated left/right camera models that every VFD shares
+(Fig. 2, Sec. III-A); here the pair is a top view and an elevated side view of
+the same workspace. A camera is a 3x4 projection matrix P = K [R | -R C]
+mapping homogeneous world millimetres to pixels (u = column, v = row).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+# Workspace of design.md: table x in [-300, 300], y in [0, 400]; structures below z = 300.
+WORKSPACE_LO = np.array([-300.0, 0.0, 0.0])
+WORKSPACE_HI = np.array([300.0, 400.0, 300.0])
+
+
+class Camera:
+    """A calibrated perspective camera (world mm -> pixels)."""
+
+    def __init__(self, P: np.ndarray, size: tuple[int, int] = (256, 256), name: str = "") -> None:
+        """Wrap a 3x4 projection matrix for images of ``size`` = (width, height)."""
+        self.P = np.asarray(P, dtype=float).reshape(3, 4)
+        self.size = (int(size[0]), int(size[1]))
+        self.name = name
+        M = self.P[:, :3]
+        self._M_inv = np.linalg.inv(M)
+        # Camera centre: the null vector of P, C = -M^-1 p4.
+        self.center = -self._M_inv @ self.P[:, 3]
+
+    @classmethod
+    def look_at(
+        cls,
+        eye: Sequence[float],
+        target: Sequence[float],
+        up: Sequence[float],
+        focal: float,
+        size: tuple[int, int] = (256, 256),
+        name: str = "",
+    ) -> Camera:
+        """Build a camera at ``eye`` looking at ``target``; ``up`` points to the image top."""
+        eye = np.asarray(eye, float)
+        forward = np.asarray(target, float) - eye
+        forward /= np.linalg.norm(forward)
+        right = np.cross(forward, np.asarray(up, float))
+        right /= np.linalg.norm(right)
+        down = np.cross(forward, right)  # image rows grow downwards
+        R = np.stack([right, down, forward])
+        K = np.array([[focal, 0.0, size[0] / 2.0], [0.0, focal, size[1] / 2.0], [0.0, 0.0, 1.0]])
+        P = K @ np.hstack([R, (-R @ eye)[:, None]])
+        return cls(P, size, name)
+
+    def project(self, points: np.ndarray) -> np.ndarray:
+        """Project world points [N,3] (mm) to pixel coordinates [N,2] (u, v)."""
+        pts = np.asarray(points, dtype=float).reshape(-1, 3)
+        h = pts @ self.P[:, :3].T + self.P[:, 3]
+        return h[:, :2] / h[:, 2:3]
+
+    def depth(self, points: np.ndarray) -> np.ndarray:
+        """Distance along the optical axis of world points [N,3] (positive in front)."""
+        pts = np.asarray(points, dtype=float).reshape(-1, 3)
+        h = pts @ self.P[:, :3].T + self.P[:, 3]
+        scale = np.linalg.norm(self.P[2, :3])
+        return h[:, 2] / scale
+
+    def view_line(self, uv: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
+        """Back-project pixel ``uv``: (origin = camera centre, unit direction) in world mm."""
+        d = self._M_inv @ np.array([uv[0], uv[1], 1.0])
+        if d @ self.P[2, :3] < 0:  # point the ray to the front of the camera
+            d = -d
+        return self.center.copy(), d / np.linalg.norm(d)
+
+    def point_on_plane_z(self, uv: Sequence[float], z: float) -> np.ndarray:
+        """Intersect the view line of ``uv`` with the horizontal plane at height ``z``."""
+        o, d = self.view_line(uv)
+        if abs(d[2]) < 1e-9:
+            raise ValueError("view line is parallel to the horizontal plane")
+        return o + d * ((z - o[2]) / d[2])
+
+    def box_region(
+        self, lo: Sequence[float], hi: Sequence[float], margin: int = 0
+    ) -> tuple[int, int, int, int]:
+        """Bounding pixel rectangle (x0, y0, x1, y1), clipped, of the 3-D box [lo, hi]."""
+        lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+        corners = np.array([[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1])
+                            for c in (lo[2], hi[2])])
+        uv = self.project(corners)
+        x0, y0 = np.floor(uv.min(axis=0)).astype(int) - margin
+        x1, y1 = np.ceil(uv.max(axis=0)).astype(int) + 1 + margin
+        w, h = self.size
+        return max(0, x0), max(0, y0), min(w, x1), min(h, y1)
+
+
+def triangulate(cam_a: Camera, uv_a: Sequence[float], cam_b: Camera, uv_b: Sequence[float]
+                ) -> np.ndarray:
+    """Least-squares crossing point of the two view lines (Sec. III-A, the SFD)."""
+    lines = [cam_a.view_line(uv_a), cam_b.view_line(uv_b)]
+    # Minimise the summed squared distance to both lines: sum_i (I - d d^T)(x - o_i) = 0.
+    A = np.zeros((3, 3))
+    b = np.zeros(3)
+    for o, d in lines:
+        Q = np.eye(3) - np.outer(d, d)
+        A += Q
+        b += Q @ o
+    return np.linalg.solve(A, b)
+
+
+def _fit_focal(eye, target, up, size, margin=6.0) -> float:
+    """Largest focal length (px) whose view keeps the whole workspace inside the image."""
+    unit = Camera.look_at(eye, target, up, 1.0, size)
+    corners = np.array([[x, y, z] for x in (WORKSPACE_LO[0], WORKSPACE_HI[0])
+                        for y in (WORKSPACE_LO[1], WORKSPACE_HI[1])
+                        for z in (WORKSPACE_LO[2], WORKSPACE_HI[2])])
+    offsets = np.abs(unit.project(corners) - np.array(size) / 2.0).max(axis=0)
+    half = np.array(size) / 2.0 - margin
+    return float((half / offsets).min())
+
+
+def default_cameras(size: int = 256) -> dict[str, Camera]:
+    """The top (looking down) and elevated side camera pair that sees the whole workspace."""
+    sz = (size, size)
+    centre = (WORKSPACE_LO + WORKSPACE_HI) / 2.0
+    table_centre = np.array([centre[0], centre[1], 60.0])
+    # Top: straight above the table, +y at the image top, +x to the right.
+    top_eye, top_up = (0.0, 200.0, 1400.0), (0.0, 1.0, 0.0)
+    # Side: in front of the table (y < 0), raised about 20 degrees so that top faces of
+    # stacked blocks show as separate bands (the paper's stereo pair looked down, Sec. II-B).
+    side_eye, side_up = (0.0, -1150.0, 520.0), (0.0, 0.0, 1.0)
+    top = Camera.look_at(top_eye, (0.0, 200.0, 0.0), top_up,
+                         _fit_focal(top_eye, (0.0, 200.0, 0.0), top_up, sz), sz, "top")
+    side = Camera.look_at(side_eye, table_centre, side_up,
+                          _fit_focal(side_eye, table_centre, side_up, sz), sz, "side")
+    return {"top": top, "side": side}
