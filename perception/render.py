@@ -17,7 +17,7 @@ from collections.abc import Mapping, Sequence
 import cv2
 import numpy as np
 
-from .camera import Camera
+from .camera import Camera  # noqa: F401  (type hints)
 from .scene import Box
 
 # Gray levels (documented in docs/vision.md; detectors key their thresholds on them).
@@ -59,6 +59,8 @@ def box_geometry(scene: Sequence[Box]) -> tuple[np.ndarray, np.ndarray]:
     sizes = np.array([b.size for b in scene], float).reshape(n, 3)
     angles = np.array([b.angle for b in scene], float)
     local = _UNIT[None, :, :] * sizes[:, None, :]
+    if not angles.any():  # the common case: nothing tilted
+        return local + centers[:, None, :], np.broadcast_to(_NORMALS, (n, 6, 3))
     # A positive angle turns +x towards +z (counter-clockwise in the x-z plane drawn with
     # x right and z up, as pymunk draws its plane).
     c, s = np.cos(angles)[:, None], np.sin(angles)[:, None]
@@ -73,49 +75,84 @@ def box_geometry(scene: Sequence[Box]) -> tuple[np.ndarray, np.ndarray]:
     return corners + centers[:, None, :], normals
 
 
-def paint_order(lo: np.ndarray, hi: np.ndarray, eye: np.ndarray, bbox: np.ndarray) -> list[int]:
-    """Far-to-near drawing order of boxes with bounds [N,3] and image boxes [N,4] from ``eye``."""
-    n = len(lo)
-    nearest = np.linalg.norm(np.clip(eye, lo, hi) - eye, axis=1)
-    order = np.argsort(-nearest, kind="stable")
-    if n < 2:
-        return order.tolist()
-    H, L = hi[:, None, :], lo[None, :, :]
-    sep = H <= L + _EPS_MM  # sep[a, b, k]: a lies below b along axis k
-    eye_low = eye[None, None, :] < (H + L) / 2.0  # eye on a's side of the separating plane
-    front = (sep & eye_low).any(axis=2) | (sep & ~eye_low).any(axis=2).T
-    front &= ~front.T  # contradicting planes: the projections cannot overlap
-    # Only pairs whose images overlap constrain the order.
-    front &= ((bbox[:, None, 0] < bbox[None, :, 2]) & (bbox[None, :, 0] < bbox[:, None, 2])
-              & (bbox[:, None, 1] < bbox[None, :, 3]) & (bbox[None, :, 1] < bbox[:, None, 3]))
-    ordered = front[np.ix_(order, order)]
-    if not np.triu(ordered, 1).any():
-        return order.tolist()
-    return _topological(order.tolist(), front)
-
-
-def _topological(order: list[int], front: np.ndarray) -> list[int]:
-    """Stable topological sort: a box is drawn after every box it is in front of."""
-    remaining = list(order)
-    out: list[int] = []
-    while remaining:
-        for i, a in enumerate(remaining):
-            if not any(front[b, a] for b in remaining if b != a):
-                out.append(remaining.pop(i))
-                break
-        else:  # a cycle (interpenetrating boxes): fall back on distance order
-            out.append(remaining.pop(0))
-    return out
+def _quantized(b: Box) -> tuple:
+    """Cache key of a box: sub-0.05 mm jitter of a resting body does not change its image."""
+    c, z = b.center, b.size
+    return (b.kind, round(c[0], 1), round(c[1], 1), round(c[2], 1),
+            round(z[0], 1), round(z[1], 1), round(z[2], 1), round(b.angle, 4))
 
 
 class _Drawn:
-    """A box prepared for drawing: bounds, and per camera its visible faces and 2-D bounds."""
+    """A box prepared for drawing: world bounds, and per camera its faces and image bounds."""
 
-    __slots__ = ("lo", "hi", "faces", "creases", "bbox")
+    __slots__ = ("kind", "lo", "hi", "faces", "creases", "bbox", "dist")
 
-    def __init__(self, lo, hi, faces, creases, bbox) -> None:
+    def __init__(self, kind, lo, hi, faces, creases, bbox, dist) -> None:
         """Store the prepared drawing data (see ``Renderer._prepare``)."""
-        self.lo, self.hi, self.faces, self.creases, self.bbox = lo, hi, faces, creases, bbox
+        self.kind, self.lo, self.hi = kind, lo, hi
+        self.faces, self.creases, self.bbox, self.dist = faces, creases, bbox, dist
+
+    def draw(self, img: np.ndarray, cam: str) -> None:
+        """Fill the visible faces in ``cam``'s image, then the crease lines of a block."""
+        for quad, color in self.faces[cam]:
+            cv2.fillConvexPoly(img, quad, color, cv2.LINE_8, _SHIFT)
+        if self.creases is not None:
+            cv2.polylines(img, self.creases[cam], True, CREASE_GRAY, 1, cv2.LINE_8, _SHIFT)
+
+
+def occludes(a: _Drawn, b: _Drawn, cam: str, eye: Sequence[float]) -> int:
+    """+1 if ``a`` may hide part of ``b`` in ``cam``, -1 for the reverse, 0 if unrelated.
+
+    Two disjoint axis-aligned boxes have a separating plane normal to some axis; the
+    box on the eye's side of that plane is the nearer one wherever their images overlap.
+    """
+    p, q = a.bbox[cam], b.bbox[cam]
+    if p[0] >= q[2] or q[0] >= p[2] or p[1] >= q[3] or q[1] >= p[3]:
+        return 0
+    for k in range(3):
+        if a.hi[k] <= b.lo[k] + _EPS_MM:
+            return 1 if eye[k] < (a.hi[k] + b.lo[k]) / 2.0 else -1
+        if b.hi[k] <= a.lo[k] + _EPS_MM:
+            return 1 if eye[k] > (b.hi[k] + a.lo[k]) / 2.0 else -1
+    # Interpenetrating (e.g. fingers pressed into a block): the nearer one wins.
+    return 1 if a.dist[cam] < b.dist[cam] else -1
+
+
+def paint_order(items: Sequence[_Drawn], cam: str, eye: Sequence[float]) -> list[int]:
+    """Far-to-near drawing order (indices into ``items``) for the painter's algorithm."""
+    order = sorted(range(len(items)), key=lambda i: -items[i].dist[cam])
+    out: list[int] = []
+    while order:  # stable topological sort: draw first a box that hides nothing remaining
+        for j, a in enumerate(order):
+            if all(occludes(items[a], items[b], cam, eye) <= 0 for b in order if b != a):
+                out.append(order.pop(j))
+                break
+        else:  # a cycle of overlapping boxes: keep the distance order
+            out.append(order.pop(0))
+    return out
+
+
+class _Layer:
+    """The static blocks of a scene, drawn once per camera, with their occlusion relations."""
+
+    def __init__(self, keys: tuple, items: list[_Drawn], renderer: Renderer) -> None:
+        """Draw ``items`` in painter's order for every camera of ``renderer``."""
+        self.keys, self.items = keys, items
+        self.images: dict[str, np.ndarray] = {}
+        self.order: dict[str, list[int]] = {}
+        self.hiders: dict[str, list[set[int]]] = {}  # statics drawn over static i (closure)
+        for name, cam in renderer.cameras.items():
+            img = renderer._blank[name].copy()
+            order = paint_order(items, name, cam.center)
+            for i in order:
+                items[i].draw(img, name)
+            hiders: list[set[int]] = [set() for _ in items]
+            for pos in range(len(order) - 1, -1, -1):  # near to far builds the closure
+                i = order[pos]
+                for j in order[pos + 1:]:
+                    if occludes(items[j], items[i], name, cam.center) > 0:
+                        hiders[i] |= {j} | hiders[j]
+            self.images[name], self.order[name], self.hiders[name] = img, order, hiders
 
 
 class Renderer:
@@ -126,32 +163,36 @@ class Renderer:
         """Prepare the cameras and a seeded pool of noise images of std ``pixel_noise``."""
         self.cameras = dict(cameras)
         self.pixel_noise = float(pixel_noise)
-        self._rng = np.random.default_rng(seed)
+        rng = np.random.default_rng(seed)
         self._noise: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}
         if self.pixel_noise > 0:
             for name, cam in self.cameras.items():
                 w, h = cam.size
                 pool = []
                 for _ in range(_POOL):
-                    g = np.rint(self._rng.normal(0.0, self.pixel_noise, (h, w)))
+                    g = np.rint(rng.normal(0.0, self.pixel_noise, (h, w)))
                     pool.append((np.clip(g, 0, 255).astype(np.uint8),
                                  np.clip(-g, 0, 255).astype(np.uint8)))
                 self._noise[name] = pool
-        self._picks = self._rng.integers(0, _POOL, size=4096).tolist()
+        self._picks = rng.integers(0, _POOL, size=4096).tolist()
         self._frame = 0
-        self._last_key: tuple[Box, ...] | None = None
-        self._last_clean: dict[str, np.ndarray] = {}
-        # Static blocks repeat from frame to frame: their projections are computed once.
-        self._cache: dict[Box, _Drawn] = {}
         self._blank = {name: np.zeros((c.size[1], c.size[0]), np.uint8)
                        for name, c in self.cameras.items()}
+        self._cache: dict[tuple, _Drawn] = {}  # projections of boxes seen recently
+        self._last_keys: tuple = ()
+        self._last_clean: dict[str, np.ndarray] = {}
+        # Both projection matrices stacked, so a batch of corners is projected in one product.
+        self._M = np.vstack([c.P[:, :3] for c in self.cameras.values()])
+        self._p4 = np.concatenate([c.P[:, 3] for c in self.cameras.values()])
+        self._eyes = np.array([c.center for c in self.cameras.values()])
+        self._layer = _Layer((), [], self)
 
     def render(self, scene: Sequence[Box]) -> dict[str, np.ndarray]:
         """Return ``{"top": img, "side": img}`` for ``scene`` (fresh noise every call)."""
-        key = tuple(scene)
-        if key != self._last_key:
-            self._last_clean = self.render_clean(key)
-            self._last_key = key
+        keys = tuple(_quantized(b) for b in scene)
+        if keys != self._last_keys or not self._last_clean:
+            self._last_clean = self._compose(scene, keys, set(self._last_keys))
+            self._last_keys = keys
         if not self._noise:
             return {name: img.copy() for name, img in self._last_clean.items()}
         pick = self._picks[self._frame % len(self._picks)]
@@ -163,60 +204,92 @@ class Renderer:
         return out
 
     def render_clean(self, scene: Sequence[Box]) -> dict[str, np.ndarray]:
-        """Noise-free images of ``scene`` for every camera."""
-        cache = self._cache
-        missing = [b for b in dict.fromkeys(scene) if b not in cache]
+        """Noise-free images of ``scene`` for every camera (no layer caching)."""
+        keys = tuple(_quantized(b) for b in scene)
+        self._fill_cache(scene, keys)
+        layer = _Layer(keys, [self._cache[k] for k in keys], self)
+        return {name: img.copy() for name, img in layer.images.items()}
+
+    def _fill_cache(self, scene: Sequence[Box], keys: tuple) -> None:
+        """Project the boxes not seen before, in one vectorized batch."""
+        missing = {k: b for k, b in zip(keys, scene, strict=True) if k not in self._cache}
         if missing:
-            if len(cache) > 4096:  # a long run with a moving hand: forget old poses
-                cache.clear()
-            cache.update(zip(missing, self._prepare(missing), strict=True))
-        drawn = [cache[b] for b in scene]
+            if len(self._cache) > 4096:  # a long run with a moving hand: forget old poses
+                self._cache = {k: self._cache[k] for k in self._layer.keys}
+            self._cache.update(zip(missing, self._prepare(list(missing.values())), strict=True))
+
+    def _compose(self, scene: Sequence[Box], keys: tuple, previous: set) -> dict[str, np.ndarray]:
+        """Static blocks come from a cached layer; moving boxes are drawn over it."""
+        self._fill_cache(scene, keys)
+        static_keys = tuple(k for k in keys if k[0] == "block" and k in previous)
+        if static_keys != self._layer.keys:
+            self._layer = _Layer(static_keys, [self._cache[k] for k in static_keys], self)
+        layer = self._layer
+        in_layer = set(static_keys)
+        moving = [self._cache[k] for k in keys if k not in in_layer]
         images = {}
-        if drawn:
-            lo = np.array([d.lo for d in drawn])
-            hi = np.array([d.hi for d in drawn])
         for name, cam in self.cameras.items():
-            img = self._blank[name].copy()
-            if drawn:
-                bbox = np.array([d.bbox[name] for d in drawn])
-                for i in paint_order(lo, hi, cam.center, bbox):
-                    d = drawn[i]
-                    for quad, color in d.faces[name]:
-                        cv2.fillConvexPoly(img, quad, color, cv2.LINE_8, _SHIFT)
-                    if d.creases:
-                        cv2.polylines(img, d.creases[name], True, CREASE_GRAY, 1,
-                                      cv2.LINE_8, _SHIFT)
+            img = layer.images[name].copy()
+            if moving:
+                self._draw_moving(img, name, cam.center, layer, moving)
             images[name] = img
         return images
 
+    @staticmethod
+    def _draw_moving(img: np.ndarray, name: str, eye: np.ndarray, layer: _Layer,
+                     moving: list[_Drawn]) -> None:
+        """Paint moving boxes, then repaint the static boxes that hide them (painter's)."""
+        order = paint_order(moving, name, eye)
+        for i in order:
+            moving[i].draw(img, name)
+        hiders: set[int] = set()
+        for j, s in enumerate(layer.items):
+            if any(occludes(s, m, name, eye) > 0 for m in moving):
+                hiders |= {j} | layer.hiders[name][j]
+        if not hiders:
+            return
+        for j in layer.order[name]:
+            if j in hiders:
+                layer.items[j].draw(img, name)
+        for i in order:  # a moving box in front of a repainted static box comes back on top
+            if any(occludes(moving[i], layer.items[j], name, eye) > 0 for j in hiders):
+                moving[i].draw(img, name)
+
     def _prepare(self, boxes: list[Box]) -> list[_Drawn]:
         """Project a batch of boxes into every camera and keep their visible faces."""
-        corners, normals = box_geometry(boxes)
         n = len(boxes)
-        flat = corners.reshape(-1, 3)
+        centers = np.array([b.center for b in boxes], float)
+        corners, normals = box_geometry(boxes)
         lo, hi = corners.min(axis=1), corners.max(axis=1)
-        shades = block_shade(normals)
-        for i, b in enumerate(boxes):
-            if b.kind in _FLAT:
-                shades[i, :] = _FLAT[b.kind]
-        face_mid = corners[:, _FACES].mean(axis=2)  # [N,6,3]
-        per_cam = {}
-        for name, cam in self.cameras.items():
-            visible = (((cam.center[None, None, :] - face_mid) * normals).sum(axis=2)
-                       > 1e-6).tolist()
-            uv = cam.project(flat).reshape(n, 8, 2)
-            pix = np.rint(uv * _ONE).astype(np.int32)
-            quads = np.ascontiguousarray(pix[:, _FACES])  # [N,6,4,2]
-            bb = np.concatenate([uv.min(axis=1), uv.max(axis=1)], axis=1).tolist()
-            per_cam[name] = (visible, quads, bb)
+        if all(b.kind in _FLAT for b in boxes):
+            shades = [[_FLAT[b.kind]] * 6 for b in boxes]
+        else:
+            shades = block_shade(normals).tolist()
+            for i, b in enumerate(boxes):
+                if b.kind in _FLAT:
+                    shades[i] = [_FLAT[b.kind]] * 6
+        halfs = np.repeat(np.array([b.size for b in boxes], float) / 2.0, 2, axis=1)  # [N,6]
+        names = list(self.cameras)
+        eyes = self._eyes  # [C,3]
+        # A face is visible when the eye lies beyond its plane: n . (eye - c) > half-extent.
+        visible = (np.einsum("nfk,cnk->cnf", normals, eyes[:, None, :] - centers[None])
+                   > halfs[None] + 1e-6).tolist()
+        h = corners.reshape(-1, 3) @ self._M.T + self._p4  # [N*8, 3C]
+        h = h.reshape(n, 8, len(names), 3)
+        uv = h[..., :2] / h[..., 2:3]  # [N,8,C,2]
+        quads = np.rint(uv * _ONE).astype(np.int32).transpose(2, 0, 1, 3)[:, :, _FACES]
+        quads = np.ascontiguousarray(quads)  # [C,N,6,4,2]
+        bb = np.concatenate([uv.min(axis=1), uv.max(axis=1)], axis=2).tolist()  # [N,C,4]
+        dist = np.linalg.norm(np.clip(eyes[:, None, :], lo, hi) - eyes[:, None, :],
+                              axis=2).tolist()  # [C,N]
         out = []
+        lo_l, hi_l = lo.tolist(), hi.tolist()
         for i, b in enumerate(boxes):
-            faces, creases, bbox = {}, {}, {}
-            for name, (visible, quads, bb) in per_cam.items():
-                faces[name] = [(quads[i, f], int(shades[i, f])) for f in range(6)
-                               if visible[i][f]]
-                creases[name] = [q for q, _ in faces[name]]
-                bbox[name] = bb[i]
-            out.append(_Drawn(tuple(lo[i]), tuple(hi[i]), faces,
-                              creases if b.kind == "block" else None, bbox))
+            faces = {name: [(quads[c, i, f], shades[i][f]) for f in range(6) if visible[c][i][f]]
+                     for c, name in enumerate(names)}
+            creases = ({name: [q for q, _ in faces[name]] for name in names}
+                       if b.kind == "block" else None)
+            out.append(_Drawn(b.kind, tuple(lo_l[i]), tuple(hi_l[i]), faces, creases,
+                              {name: bb[i][c] for c, name in enumerate(names)},
+                              {name: dist[c][i] for c, name in enumerate(names)}))
         return out
