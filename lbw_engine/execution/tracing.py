@@ -1,0 +1,198 @@
+"""Plan tracing (Sec. VII-A, "trace the temporal evolution of the plan").
+
+The plan is walked depth first in plot order (a ``$parallel`` runs in its
+listed order). Each recognized operation (a plot leaf) gets a goal and is
+expanded into commands by the Table IX rules:
+
+* ``object`` goals — the operator's focus object where the model currently
+  has it (REACH / PICK retargeted to the current ENV-node, Sec. VII-A 2a);
+* ``placement`` goals — the taught support relation in the operator's SC⁺,
+  kept relative to its support (``:at ... :wrt``). The paper keeps PLACE goals
+  in world coordinates; a relative goal goes one step further: a sub-assembly
+  built on an object that starts elsewhere still lands on it, while a support
+  of ``table`` still means world coordinates. The vertical goal comes from the
+  sizes (top of the supports plus half the object), as the paper corrects it.
+
+The model is updated by every emitted primitive and, when an operator's own
+leaves are done, by its SC⁻ / SC⁺ (Sec. VII-A 2c).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..errors import InputError, TaskFailed
+from .commandrules import CommandRules
+from .expander import Command, Context, Expander, fvec
+from .geometry import TABLE, Vec, overlap, top
+from .model import ExecModel
+from .plan import Operator, Plan, Relation, action_names
+
+NOT_OBJECTS = frozenset({TABLE, "hand"})
+
+
+@dataclass
+class TracedOp:
+    """One recognized operation as executed: its goal and its commands."""
+
+    operator: str  # the plan operator whose plot holds this leaf
+    operator_class: str
+    leaf: str
+    operation: str
+    focus: str | None
+    goal: Vec | None
+    arm_goal: Vec | None = None
+    commands: list[Command] = field(default_factory=list)
+
+
+@dataclass
+class Trace:
+    """The traced plan: operations in execution order, and the model at the end."""
+
+    ops: list[TracedOp]
+    model: ExecModel
+
+    @property
+    def commands(self) -> list[Command]:
+        """All manipulator commands in order."""
+        return [c for op in self.ops for c in op.commands]
+
+
+def trace(plan: Plan, rules: CommandRules, model: ExecModel) -> Trace:
+    """Walk the plan depth first, expanding each leaf against the (updated) model."""
+    expander = Expander(rules, model)
+    ops: list[TracedOp] = []
+
+    def walk(name: str) -> None:
+        op = plan.operators[name]
+        has_leaves = False
+        for child in action_names(op.plot):
+            if child in plan.operators:
+                walk(child)
+            else:
+                has_leaves = True
+                ops.append(_leaf(plan, rules, model, expander, op, child))
+        if has_leaves:
+            model.apply(op.sc_minus, op.sc_plus)
+
+    walk(plan.root)
+    return Trace(ops, model)
+
+
+def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
+          op: Operator, leaf: str) -> TracedOp:
+    """Find one leaf's goal and expand its steps."""
+    operation = plan.leaf_operations[leaf]
+    where = f"operators.{op.name}.plot: {leaf}"
+    rule = rules.operations.get(operation)
+    if rule is None:
+        raise InputError(f"operation {operation} has no expansion in {rules.file} "
+                         f"(known: {', '.join(sorted(rules.operations))})",
+                         file=plan.file, where=where)
+    focus = focus_object(op, rules, model)
+    goal = None
+    for source in rule.goal:
+        goal = _goal(source, op, focus, rules, model, plan.file, where)
+        if goal is not None:
+            break
+    width = rules.margin
+    if focus is not None:
+        width += model.bodies[focus].size[rules.jaw_axis]
+    cmds = expander.run(rule.steps, Context(goal, width, where))
+    arm_goal = rules.arm_frame.to_arm(goal) if goal is not None else None
+    return TracedOp(op.name, op.cls, leaf, operation, focus, goal, arm_goal, cmds)
+
+
+def focus_object(op: Operator, rules: CommandRules, model: ExecModel) -> str | None:
+    """The object an operator moves or touches (commands.yaml ``focus``)."""
+    for rels in (op.sc_plus, op.sc_minus):
+        for r in rels:
+            if r.type in rules.focus_relations and r.subject in model.bodies:
+                return r.subject
+    for slot in rules.focus_slots:
+        for name in op.slots[slot]:
+            if name not in NOT_OBJECTS and name in model.bodies:
+                return name
+    return None
+
+
+def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
+          model: ExecModel, file: str, where: str) -> Vec | None:
+    """A goal from one source (commands.yaml ``goal``), or None if it does not apply."""
+    if focus is None:
+        return None
+    if source == "object":
+        return model.bodies[focus].position
+    rel = next((r for r in op.sc_plus
+                if r.subject == focus and r.type in rules.support_relations), None)
+    if rel is None:
+        return None
+    return placement_goal(rel, focus, rules, model, file, where)
+
+
+def placement_goal(rel: Relation, focus: str, rules: CommandRules, model: ExecModel,
+                   file: str = "<plan>", where: str = "") -> Vec:
+    """Where ``focus`` goes for a taught support relation, in the current model."""
+    for s in [*rel.objects, *([rel.wrt] if rel.wrt else [])]:
+        if s not in NOT_OBJECTS and s not in model.bodies:
+            raise InputError(f"the relation names '{s}', which is not a plan object",
+                             file=file, where=where)
+    supports = [s for s in rel.objects if s != TABLE]
+    if rel.at is not None and rel.wrt not in (None, TABLE):
+        ref = model.bodies[rel.wrt].position  # relative to the support's current place
+        xy = (ref[0] + rel.at[0], ref[1] + rel.at[1])
+    elif rel.at is not None:
+        xy = (rel.at[0], rel.at[1])  # world frame (on the table, or no :wrt)
+    elif supports:
+        ps = [model.bodies[s].position for s in supports]  # centre of the supports
+        xy = (sum(p[0] for p in ps) / len(ps), sum(p[1] for p in ps) / len(ps))
+    else:
+        raise InputError(f"the placement of '{focus}' on the table has no :at position",
+                         file=file, where=where)
+    size = model.bodies[focus].size
+    base = max((top(model.bodies[s].position, model.bodies[s].size) for s in supports),
+               default=0.0)
+    goal = (xy[0], xy[1], base + size[2] / 2 + rules.release_clearance)
+    _check_free(goal, focus, model)
+    return goal
+
+
+def _check_free(goal: Vec, focus: str, model: ExecModel) -> None:
+    """A goal spot taken by another object makes the task impossible (exit 1)."""
+    moving = {focus, *model.riders(focus)}
+    size = model.bodies[focus].size
+    for name, b in model.bodies.items():
+        if name in moving:
+            continue
+        if overlap(goal, size, b.position, b.size, tol=1.5):
+            kind = "" if b.relevant else ", an object the plan does not use,"
+            raise TaskFailed(
+                f"cannot place '{focus}' at {_mm(goal)}: the spot is occupied by "
+                f"'{name}'{kind} at {_mm(b.position)}"
+            )
+
+
+def _mm(v: Vec) -> str:
+    """A position for messages."""
+    return "(" + ", ".join(f"{c:.0f}" for c in v) + ") mm"
+
+
+def format_commands(tr: Trace, title: str = "") -> str:
+    """commands.txt in the manner of Fig. 24: operator, goal, operation, commands."""
+    n = len(tr.commands)
+    lines = [f";;; {title} — {n} manipulator commands (positions in arm coordinates, mm)"
+             if title else f";;; {n} manipulator commands (positions in arm coordinates, mm)"]
+    last_op = last_goal = None
+    for op in tr.ops:
+        if not op.commands:
+            continue
+        if op.operator != last_op:
+            lines.append(f"<<{op.operator_class.capitalize()}>> {op.operator}")
+            last_op, last_goal = op.operator, None
+        if op.goal is not None and op.goal != last_goal:
+            lines.append(f" GOAL-POSITION {fvec(op.goal)}")
+            lines.append(f" ARM GOAL POSITION {fvec(op.arm_goal)}")
+            last_goal = op.goal
+        lines.append(f" <{op.operation.lower()}>")
+        lines.extend(f" {c.text()}" for c in op.commands)
+    return "\n".join(lines) + "\n"
