@@ -75,13 +75,6 @@ def box_geometry(scene: Sequence[Box]) -> tuple[np.ndarray, np.ndarray]:
     return corners + centers[:, None, :], normals
 
 
-def _quantized(b: Box) -> tuple:
-    """Cache key of a box: sub-0.05 mm jitter of a resting body does not change its image."""
-    c, z = b.center, b.size
-    return (b.kind, round(c[0], 1), round(c[1], 1), round(c[2], 1),
-            round(z[0], 1), round(z[1], 1), round(z[2], 1), round(b.angle, 4))
-
-
 class _Drawn:
     """A box prepared for drawing: world bounds, and per camera its faces and image bounds."""
 
@@ -178,7 +171,7 @@ class Renderer:
         self._frame = 0
         self._blank = {name: np.zeros((c.size[1], c.size[0]), np.uint8)
                        for name, c in self.cameras.items()}
-        self._cache: dict[tuple, _Drawn] = {}  # projections of boxes seen recently
+        self._cache: dict[Box, _Drawn] = {}  # projections of boxes seen recently
         self._last_keys: tuple = ()
         self._last_clean: dict[str, np.ndarray] = {}
         # Both projection matrices stacked, so a batch of corners is projected in one product.
@@ -189,7 +182,7 @@ class Renderer:
 
     def render(self, scene: Sequence[Box]) -> dict[str, np.ndarray]:
         """Return ``{"top": img, "side": img}`` for ``scene`` (fresh noise every call)."""
-        keys = tuple(_quantized(b) for b in scene)
+        keys = tuple(scene)
         if keys != self._last_keys or not self._last_clean:
             self._last_clean = self._compose(scene, keys, set(self._last_keys))
             self._last_keys = keys
@@ -205,7 +198,7 @@ class Renderer:
 
     def render_clean(self, scene: Sequence[Box]) -> dict[str, np.ndarray]:
         """Noise-free images of ``scene`` for every camera (no layer caching)."""
-        keys = tuple(_quantized(b) for b in scene)
+        keys = tuple(scene)
         self._fill_cache(scene, keys)
         layer = _Layer(keys, [self._cache[k] for k in keys], self)
         return {name: img.copy() for name, img in layer.images.items()}
@@ -221,7 +214,7 @@ class Renderer:
     def _compose(self, scene: Sequence[Box], keys: tuple, previous: set) -> dict[str, np.ndarray]:
         """Static blocks come from a cached layer; moving boxes are drawn over it."""
         self._fill_cache(scene, keys)
-        static_keys = tuple(k for k in keys if k[0] == "block" and k in previous)
+        static_keys = tuple(k for k in keys if k.kind == "block" and k in previous)
         if static_keys != self._layer.keys:
             self._layer = _Layer(static_keys, [self._cache[k] for k in static_keys], self)
         layer = self._layer
