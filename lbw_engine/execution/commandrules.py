@@ -109,6 +109,9 @@ class CommandRules:
     skip_null_moves: bool
     jaw_axis: int
     margin: float
+    tip: float
+    tip_clearance: float
+    max_below_top: float
     release_clearance: float
     support_relations: tuple[str, ...]
     focus_relations: tuple[str, ...]
@@ -116,6 +119,11 @@ class CommandRules:
     operations: dict[str, OperationRule]
     macros: dict[str, Macro]
     file: str = "<string>"
+
+    def grip_offset(self, size: tuple[float, float, float]) -> float:
+        """Height of the grip centre above an object's centre when holding it."""
+        h = size[2]
+        return max(h / 2 - min(h / 2, self.max_below_top), self.tip + self.tip_clearance - h / 2)
 
 
 class _Ctx:
@@ -180,7 +188,8 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
     cx = _Ctx(file)
     cx.keys(doc, _TOP, "", _REQUIRED)
     frame = _arm_frame(cx, doc["arm_frame"])
-    cx.keys(doc["gripper"], {"jaw_axis", "margin"}, "gripper", {"jaw_axis", "margin"})
+    grip_keys = {"jaw_axis", "margin", "tip", "tip_clearance", "max_below_top"}
+    cx.keys(doc["gripper"], grip_keys, "gripper", grip_keys)
     jaw = doc["gripper"]["jaw_axis"]
     if jaw not in JAW_AXES:
         raise cx.fail("must be x or y", doc["gripper"], "jaw_axis", "gripper.jaw_axis")
@@ -198,6 +207,9 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
         skip_null_moves=skip,
         jaw_axis=JAW_AXES[jaw],
         margin=cx.number(doc["gripper"], "margin", "gripper.margin"),
+        tip=cx.number(doc["gripper"], "tip", "gripper.tip"),
+        tip_clearance=cx.number(doc["gripper"], "tip_clearance", "gripper.tip_clearance"),
+        max_below_top=cx.number(doc["gripper"], "max_below_top", "gripper.max_below_top"),
         release_clearance=(cx.number(doc, "release_clearance", "release_clearance")
                            if "release_clearance" in doc else 0.0),
         support_relations=cx.names(doc, "support_relations", "support_relations"),

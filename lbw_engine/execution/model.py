@@ -83,14 +83,22 @@ class ExecModel:
                 b.position = tuple(b.position[k] + delta[k] for k in range(3))
         self.hand = tuple(p)
 
-    def grasp(self) -> str | None:
-        """Close the hand: it holds the object whose box contains the hand point."""
+    def grasp(self, reach: float = 15.0) -> str | None:
+        """Close the hand: it holds the object between its jaws.
+
+        That is an object whose footprint holds the hand's x-y and whose height
+        range, extended ``reach`` mm upward (the fingers hang below the grip
+        centre), holds the hand's z; the closest centre wins.
+        """
+        hx, hy, hz = self.hand
+        best, best_d = None, float("inf")
         for name, b in self.bodies.items():
-            if all(abs(self.hand[k] - b.position[k]) <= b.size[k] / 2 for k in range(3)):
-                self.held = name
-                return name
-        self.held = None
-        return None
+            (x, y, z), (sx, sy, sz) = b.position, b.size
+            if abs(hx - x) <= sx / 2 and abs(hy - y) <= sy / 2 and \
+                    z - sz / 2 <= hz <= z + sz / 2 + reach and abs(hz - z) < best_d:
+                best, best_d = name, abs(hz - z)
+        self.held = best
+        return best
 
     def release(self) -> None:
         """Open the hand."""

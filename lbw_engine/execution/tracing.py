@@ -96,10 +96,14 @@ def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
         if goal is not None:
             break
     width = rules.margin
+    grip = goal
     if focus is not None:
-        width += model.bodies[focus].size[rules.jaw_axis]
-    cmds = expander.run(rule.steps, Context(goal, width, where))
-    arm_goal = rules.arm_frame.to_arm(goal) if goal is not None else None
+        size = model.bodies[focus].size
+        width += size[rules.jaw_axis]
+        if goal is not None:  # the arm's tool point is the grip centre, not the object's
+            grip = (goal[0], goal[1], goal[2] + rules.grip_offset(size))
+    cmds = expander.run(rule.steps, Context(grip, width, where))
+    arm_goal = rules.arm_frame.to_arm(grip) if grip is not None else None
     return TracedOp(op.name, op.cls, leaf, operation, focus, goal, arm_goal, cmds)
 
 
