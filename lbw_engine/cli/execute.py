@@ -1,0 +1,194 @@
+"""``lbw execute PLAN.json SCENARIO --out DIR``: instantiate, execute and verify (Sec. VII).
+
+The wiring between the pure execution logic (``lbw_engine.execution``) and
+the simulated workspace (``perception``): build the scenario's execution
+workspace, measure its initial state, match it to the plan's objects, trace
+the plan into Table IX commands, run them with the robot, let the world settle
+for 2 s and verify the final structure. Writes ``commands.txt`` and
+``execution.json``; exit 0 when verified, 1 when not (outputs are published
+first), 2 on bad input.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from ..errors import InputError, TaskFailed
+from ..execution import commandrules
+from ..execution import plan as planmod
+from ..execution.commandrules import CommandRules
+from ..execution.matching import Measured, match_initial_state, plan_objects, taught_shapes
+from ..execution.model import Body, ExecModel
+from ..execution.plan import Plan
+from ..execution.tracing import Trace, format_commands, trace
+from ..execution.verification import ObjectState, verify
+from ..outputs import OutputDir
+from ..paths import default_rules_dir
+
+HELP = "Instantiate a plan in the scenario's execution workspace, run it with the robot, verify."
+SETTLE_S = 2.0  # seconds the world runs after the last command before measuring
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Arguments of ``lbw execute``."""
+    p.add_argument("plan", help="plan.json written by `lbw analyze`")
+    p.add_argument("scenario", help="scenario YAML with an `execute` workspace")
+    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--rules", default=None, help="rules directory (default: bundled rules/)")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the command; see the module docstring."""
+    from perception import scenario as scenario_mod
+
+    rules = commandrules.load_dir(args.rules or default_rules_dir())
+    plan = planmod.load(args.plan)
+    sc = scenario_mod.load(args.scenario)
+    with OutputDir(args.out) as out:
+        result = execute_plan(plan, sc, rules)
+        out.write_text("commands.txt", result.commands_text)
+        out.write_json("execution.json", result.report)
+    if not result.success:
+        print(f"lbw execute: {result.message}", file=sys.stderr)
+        return 1
+    return 0
+
+
+@dataclass
+class ExecutionResult:
+    """What an execution produced: the two output files' contents and the verdict."""
+
+    success: bool
+    message: str
+    commands_text: str
+    report: dict[str, Any]
+    trace: Trace | None = None
+
+
+def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
+                 on_step: Callable[[Any], None] | None = None) -> ExecutionResult:
+    """Instantiate ``plan`` in ``sc.execute``, run it with the robot and verify it.
+
+    ``sc`` is a loaded ``perception.scenario.Scenario``; ``on_step(world)`` is
+    called after every world step of the robot (e.g. to render frames). Raises
+    InputError when the plan and the scenario do not fit together; a task that
+    cannot be done or does not verify gives ``success=False`` with a message.
+    """
+    from perception.robot import Robot
+    from perception.world import World
+
+    if sc.execute is None:
+        raise InputError("the scenario has no 'execute' workspace", file=sc.file, where="execute")
+    taught = _taught(plan, sc)
+    world = World(sc.execute.objects.values())
+    world.settle(0.5)
+    measured, source = measure_initial_state(world, sc)
+    start = world.positions()  # to name world bodies by plan object at the end
+    report: dict[str, Any] = {
+        "success": False,
+        "initial_state": {"source": source,
+                          "measured": [{"shape": m.shape, "position": _r(m.position),
+                                        "size": list(m.size)} for m in measured]},
+    }
+    try:
+        matching = match_initial_state(taught, plan_objects(plan), measured)
+        report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
+        model = _model(taught, sc.shapes, matching, measured, rules)
+        tr = trace(plan, rules, model)
+    except TaskFailed as exc:
+        report.update(stage="instantiation", failure=str(exc), mismatches=[])
+        return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report)
+    names = list(matching.assigned)
+    expected = model.settled(names)
+    expected_sup = model.final_supports(names)
+    robot = Robot(world, rules.arm_frame, rules.home, on_step=on_step)
+    log = robot.execute(tr.commands)
+    robot.settle(SETTLE_S)
+    verdict = verify(expected, expected_sup, _final_state(world, start, measured, matching),
+                     rules.support_relations)
+    report.update(verdict.to_json())
+    report.update(
+        stage="verification",
+        commands=len(tr.commands),
+        expected={"relations": [[t, n, list(o) if len(o) > 1 else o[0]]
+                                for n, (t, o) in sorted(expected_sup.items())],
+                  "positions": {n: _r(p) for n, p in sorted(expected.items())}},
+        final_state_source="ground-truth",
+        robot={"grasps": log.grasps, "sim_time": round(log.time, 2)},
+    )
+    msg = "the executed structure matches the plan" if verdict.success else \
+        "execution did not verify: " + "; ".join(m["message"] for m in verdict.mismatches)
+    title = f"plan {plan.root} in {sc.name}"
+    return ExecutionResult(verdict.success, msg, format_commands(tr, title), report, tr)
+
+
+def _taught(plan: Plan, sc: Any) -> dict[str, dict]:
+    """Taught objects {name: {shape, position}}; every plan object must be among them."""
+    teach = {n: {"shape": o.shape, "position": list(o.center)} for n, o in sc.teach.objects.items()}
+    taught = taught_shapes(plan, teach)
+    for name in plan_objects(plan):
+        if name not in taught:
+            raise InputError(f"the plan uses object '{name}', which the scenario's teach "
+                             "workspace does not have", file=plan.file, where="root")
+        if taught[name]["shape"] not in sc.shapes:
+            raise InputError(f"object '{name}' has shape '{taught[name]['shape']}', which the "
+                             "scenario's shapes do not define", file=plan.file, where="objects")
+    return taught
+
+
+def measure_initial_state(world: Any, sc: Any) -> tuple[list[Measured], str]:
+    """The execution workspace's objects as measured, and where the measurement came from.
+
+    The object-finder (through the cameras) is the intended source
+    (Sec. VII-A 3); until perception provides it, the world's ground truth is
+    used and the report says so.
+    """
+    pos = world.positions()
+    out = [Measured(sc.execute.objects[n].shape, pos[n], world.sizes[n]) for n in world.names]
+    return out, "ground-truth"
+
+
+def _model(taught: dict, shapes: dict, matching: Any, measured: list[Measured],
+           rules: CommandRules) -> ExecModel:
+    """The execution environment model: plan objects at measured places, the rest obstacles."""
+    bodies = {}
+    for name, i in matching.assigned.items():
+        shape = taught[name]["shape"]
+        bodies[name] = Body(shape, tuple(shapes[shape]), tuple(measured[i].position))
+    for k, i in enumerate(matching.unmatched, 1):
+        m = measured[i]
+        bodies[f"unused-{m.shape}-{k}"] = Body(m.shape, tuple(m.size), tuple(m.position), False)
+    return ExecModel.from_measurements(bodies, rules.support_relations, rules.home)
+
+
+def _final_state(world: Any, start: dict[str, tuple], measured: list[Measured],
+                 matching: Any) -> dict[str, ObjectState]:
+    """Final ground-truth states, named by plan object.
+
+    A plan object is the world body that started nearest to the measured
+    position it was matched to (the measurement may come from the cameras).
+    """
+    pos, ang = world.positions(), world.angles()
+    by_plan = {}
+    taken: set[str] = set()
+    for name, i in matching.assigned.items():
+        body = min((b for b in world.names if b not in taken),
+                   key=lambda b: math.dist(start[b], measured[i].position))
+        taken.add(body)
+        by_plan[name] = body
+    out = {n: ObjectState(pos[b], world.sizes[b], ang[b]) for n, b in by_plan.items()}
+    for b in world.names:
+        if b not in taken:
+            out[f"unused:{b}"] = ObjectState(pos[b], world.sizes[b], ang[b])
+    return out
+
+
+def _r(v: Any) -> list[float]:
+    """Round a vector for the report."""
+    return [round(float(c), 1) for c in v]
+
