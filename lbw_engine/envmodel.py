@@ -146,6 +146,8 @@ class EnvModel:
             size = tuple(float(v) for v in info.size)
             pos = tuple(float(v) for v in info.position)
             self.nodes[name] = EnvNode(name, "Loc", pos, size, info.shape)
+        if detection.objects:
+            self.initial_relations()
         for name, pos in detection.positions.items():
             if name in self.nodes:
                 self.move_node(name, tuple(float(v) for v in pos))

@@ -1,0 +1,36 @@
+"""``lbw recognize TRACE --out DIR [--rules DIR]``: recognize actions from an event trace."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..actions import to_actions
+from ..outputs import OutputDir
+from ..replay import recognize_trace
+from ..rules import load_rules
+
+HELP = "recognize the action sequence of a recorded event trace; writes actions.json"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """TRACE, --out and --rules."""
+    parser.add_argument("trace", metavar="TRACE", help="event trace (docs/replay-trace.md)")
+    parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Replay the trace through the interpreter and publish actions.json."""
+    rules = load_rules(args.rules)
+    recognizer, trace = recognize_trace(args.trace, rules)
+    with OutputDir(args.out) as out:
+        path = out.write_json("actions.json", to_actions(recognizer))
+    ops = [op["operation"] for op in to_actions(recognizer)["operations"]]
+    unused = trace.unused()
+    if unused:
+        lines = ", ".join(str(r.line) for r in unused[:10])
+        print(f"lbw recognize: note: {len(unused)} trace records were not asked for "
+              f"(lines {lines})", file=sys.stderr)
+    print(f"lbw recognize: {len(ops)} operations -> {path}")
+    return 0
