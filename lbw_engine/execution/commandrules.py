@@ -79,6 +79,7 @@ class OperationRule:
     goal: tuple[str, ...]
     steps: tuple[Step, ...]
     line: int | None = None
+    check_jaws: bool = False  # fail when the gripper's jaws cannot reach the goal
 
 
 @dataclass(frozen=True)
@@ -110,6 +111,7 @@ class CommandRules:
     jaw_axis: int
     margin: float
     tip: float
+    finger: tuple[float, float, float]
     tip_clearance: float
     max_below_top: float
     release_clearance: float
@@ -188,7 +190,7 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
     cx = _Ctx(file)
     cx.keys(doc, _TOP, "", _REQUIRED)
     frame = _arm_frame(cx, doc["arm_frame"])
-    grip_keys = {"jaw_axis", "margin", "tip", "tip_clearance", "max_below_top"}
+    grip_keys = {"jaw_axis", "margin", "tip", "finger", "tip_clearance", "max_below_top"}
     cx.keys(doc["gripper"], grip_keys, "gripper", grip_keys)
     jaw = doc["gripper"]["jaw_axis"]
     if jaw not in JAW_AXES:
@@ -208,6 +210,7 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
         jaw_axis=JAW_AXES[jaw],
         margin=cx.number(doc["gripper"], "margin", "gripper.margin"),
         tip=cx.number(doc["gripper"], "tip", "gripper.tip"),
+        finger=cx.vector(doc["gripper"], "finger", 3, "gripper.finger"),
         tip_clearance=cx.number(doc["gripper"], "tip_clearance", "gripper.tip_clearance"),
         max_below_top=cx.number(doc["gripper"], "max_below_top", "gripper.max_below_top"),
         release_clearance=(cx.number(doc, "release_clearance", "release_clearance")
@@ -287,10 +290,13 @@ def _operations(cx: _Ctx, raw: Any) -> dict[str, OperationRule]:
     out = {}
     for name, body in raw.items():
         w = f"operations.{name}"
-        cx.keys(body, {"goal", "steps"}, w, {"goal", "steps"})
+        cx.keys(body, {"goal", "steps", "check_jaws"}, w, {"goal", "steps"})
         goal = cx.names(body, "goal", f"{w}.goal", GOAL_SOURCES)
+        check = body.get("check_jaws", False)
+        if not isinstance(check, bool):
+            raise cx.fail("must be true or false", body, "check_jaws", f"{w}.check_jaws")
         out[name] = OperationRule(name, goal, _steps(cx, body, "steps", f"{w}.steps"),
-                                  line_of(raw, name))
+                                  line_of(raw, name), check)
     return out
 
 

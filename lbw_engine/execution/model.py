@@ -38,6 +38,7 @@ class ExecModel:
     hand: Vec
     held: str | None = None
     relations: set[RelKey] = field(default_factory=set)
+    grip_offsets: dict[str, float] = field(default_factory=dict)  # see jaws.py
 
     @classmethod
     def from_measurements(

@@ -22,6 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..errors import InputError, TaskFailed
+from . import jaws
 from .commandrules import CommandRules
 from .expander import Command, Context, Expander, fvec
 from .geometry import TABLE, Vec, overlap, top
@@ -100,11 +101,32 @@ def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
     if focus is not None:
         size = model.bodies[focus].size
         width += size[rules.jaw_axis]
-        if goal is not None:  # the arm's tool point is the grip centre, not the object's
-            grip = (goal[0], goal[1], goal[2] + rules.grip_offset(size))
+        if goal is not None:
+            grip = _grip_point(focus, goal, rule.check_jaws, rules, model)
     cmds = expander.run(rule.steps, Context(grip, width, where))
     arm_goal = rules.arm_frame.to_arm(grip) if grip is not None else None
     return TracedOp(op.name, op.cls, leaf, operation, focus, goal, arm_goal, cmds)
+
+
+def _grip_point(focus: str, goal: Vec, check: bool, rules: CommandRules,
+                model: ExecModel) -> Vec:
+    """Where the arm's tool point goes for an object goal: the grip centre (jaws.py).
+
+    Before a grasp the grip offset is chosen; while the object is held it is kept.
+    """
+    if model.held == focus:
+        dy = model.grip_offsets.get(focus, 0.0)
+        hit = jaws.blocker(focus, goal, dy, rules, model)
+    else:
+        dy, hit = jaws.choose_offset(focus, goal, rules, model)
+        model.grip_offsets[focus] = dy
+    if hit is not None and check:
+        raise TaskFailed(f"the gripper cannot hold '{focus}' at {_mm(goal)}: a jaw would hit "
+                         f"'{hit}' at {_mm(model.bodies[hit].position)}")
+    shift = [0.0, 0.0]
+    shift[1 - rules.jaw_axis] = dy
+    return (goal[0] + shift[0], goal[1] + shift[1], goal[2] + rules.grip_offset(
+        model.bodies[focus].size))
 
 
 def focus_object(op: Operator, rules: CommandRules, model: ExecModel) -> str | None:
