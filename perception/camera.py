@@ -72,12 +72,20 @@ class Camera:
             d = -d
         return self.center.copy(), d / np.linalg.norm(d)
 
+    def point_on_plane(self, uv: Sequence[float], axis: int, value: float) -> np.ndarray:
+        """Intersect the view line of ``uv`` with the plane {x[axis] = value} (0=x, 1=y, 2=z)."""
+        o, d = self.view_line(uv)
+        if abs(d[axis]) < 1e-9:
+            raise ValueError("view line is parallel to the plane")
+        return o + d * ((value - o[axis]) / d[axis])
+
     def point_on_plane_z(self, uv: Sequence[float], z: float) -> np.ndarray:
         """Intersect the view line of ``uv`` with the horizontal plane at height ``z``."""
-        o, d = self.view_line(uv)
-        if abs(d[2]) < 1e-9:
-            raise ValueError("view line is parallel to the horizontal plane")
-        return o + d * ((z - o[2]) / d[2])
+        return self.point_on_plane(uv, 2, z)
+
+    def mm_to_px(self, point: Sequence[float]) -> float:
+        """Pixels per millimetre for a small length near ``point`` (perspective scale)."""
+        return float(self.P[0, 0] / self.depth(np.asarray(point, float))[0])
 
     def box_region(
         self, lo: Sequence[float], hi: Sequence[float], margin: int = 0

@@ -1,0 +1,233 @@
+"""Hand-tracker: a group of feedback-controlled windows under mutual constraints (Sec. III-C).
+
+Structure (Fig. 4, read in our two views):
+- side view: a palm window (GGE: centre of mass of the hand's gray band), two
+  finger windows whose offset vectors point away from the palm and reverse
+  when they lose their target (Fig. 3), and a holder window kept midway between
+  the fingers (it also measures how much block is between them);
+- top view: a palm window (GGE).
+Each window moves to ``g = f + d`` (feature point plus offset) every frame.
+Constraints (Sec. III-C3): each finger stays within a distance range of the
+palm, the fingers keep a minimum gap, the palm stays a preset height above the
+holder and within a short horizontal range of it. The hand position is the
+holder (between the fingers, Table II): its side-view point on the vertical
+plane through the triangulated palm. Velocity is a least-squares slope over the
+last samples (robust to pixel noise and tremor).
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from .camera import Camera
+from .frames import Frame
+from .vfd import BLOCK_MIN, HAND_BAND, VFD, VIEWS, band, centroid
+from .vfd_resources import VisionResources, Window
+
+REPLACE_MM = 120.0  # re-place the tracker when the motion-detector disagrees by more (Sec. V-A)
+
+# Window sizes (px) and the simplified hand structure (mm) the constraints encode.
+PALM_WIN = {"top": (34, 34), "side": (32, 26)}
+FINGER_WIN = (14, 16)
+HOLDER_WIN = (10, 10)
+FINGER_REACH_MM = (15.0, 100.0)  # finger feature distance from the palm feature
+FINGER_GAP_MM = 12.0  # fingers never closer than this
+PALM_ABOVE_MM = 20.0  # palm at least this far above the holder
+PALM_SIDEWAYS_MM = 30.0  # and at most this far sideways from it
+MIN_PIXELS = 4  # fewer band pixels than this in a window: target lost
+HOLDER_ABOVE_TIPS_MM = 10.0  # the holder (hand centre) sits this far above the fingertips
+FINGER_FRONT_MM = 10.0  # the side camera sees the fingertips' front edge, this far forward
+
+
+class _Tracker:
+    """One feedback-controlled window: moves to feature + offset, offset reverses on loss."""
+
+    def __init__(self, window: Window, size: tuple[int, int], image_size: tuple[int, int]) -> None:
+        """Wrap an allocated ``window`` of ``size`` (w, h) px."""
+        self.window, self.size, self.image_size = window, size, image_size
+        self.center = np.array(window.center, float)
+        self.offset = np.zeros(2)
+        self.sign = 1.0  # -1 after a loss: the offset is reversed (Fig. 3(d))
+        self.feature: np.ndarray | None = None
+        self.tip = 0.0  # lowest hand row in the window (a fingertip for a finger window)
+
+    def place(self, center: Sequence[float]) -> None:
+        """Move the window centre to ``center``."""
+        self.center = np.asarray(center, float).copy()
+        self.window.move_to(*self.center, *self.size, self.image_size)
+
+    def step(self, image: np.ndarray) -> bool:
+        """One tracking cycle (Sec. III-C2 steps 1-4); False if the target is lost."""
+        w = self.window
+        sub = w.read(image)
+        c = centroid(band(sub, *HAND_BAND))
+        if c is None or c[2] < MIN_PIXELS:
+            self.feature = None
+            self.offset, self.sign = -self.offset, -self.sign  # Fig. 3(d): local recovery
+            self.place(self.center + self.offset)
+            return False
+        self.feature = np.array([w.x0 + c[0], w.y0 + c[1]])
+        self.tip = w.y0 + float(np.nonzero(band(sub, *HAND_BAND).any(axis=1))[0].max())
+        self.place(self.feature + self.offset)
+        return True
+
+
+class HandTracker(VFD):
+    """Tracks the hand; ``target()`` is the 3-D holder position, ``velocity`` in mm/s."""
+
+    def __init__(self, cameras: Mapping[str, Camera], resources: VisionResources,
+                 history: int = 7) -> None:
+        """Allocate the palm, finger and holder windows (6 of the 32)."""
+        super().__init__(cameras, resources)
+        size = {v: self.cameras[v].size for v in VIEWS}
+        win = {v: [] for v in VIEWS}
+        try:
+            for view, n in (("top", 1), ("side", 4)):
+                for _ in range(n):
+                    win[view].append(resources.allocate(view))
+        except Exception:
+            for wins in win.values():
+                for w in wins:
+                    resources.free(w)
+            raise
+        self.windows = win
+        self.palm = {v: _Tracker(win[v][0], PALM_WIN[v], size[v]) for v in VIEWS}
+        self.fingers = [_Tracker(win["side"][1], FINGER_WIN, size["side"]),
+                        _Tracker(win["side"][2], FINGER_WIN, size["side"])]
+        self.holder = _Tracker(win["side"][3], HOLDER_WIN, size["side"])
+        self._samples: deque[tuple[float, np.ndarray]] = deque(maxlen=history)
+        self.tracking = False
+        self.lost_frames = 0
+        self.holding_evidence = 0.0  # fraction of block pixels in the holder window
+
+    # -- placement -------------------------------------------------------------------
+    def place(self, xyz: Sequence[float]) -> None:
+        """(Re)place the whole tracker at a 3-D point; fingers start beside the palm."""
+        p = np.asarray(xyz, float)
+        for v in VIEWS:
+            self.palm[v].place(self.cameras[v].project(p)[0])
+        side = self.cameras["side"]
+        s = side.mm_to_px(p)
+        c = self.palm["side"].center
+        for sign, f in zip((-1, 1), self.fingers, strict=True):
+            f.place(c + np.array([sign * 30.0 * s, 25.0 * s]))
+            f.offset = np.zeros(2)
+        self.holder.place(c + np.array([0.0, 25.0 * s]))
+        self._samples.clear()
+        self.tracking = True
+        self.lost_frames = 0
+        self.running = True
+
+    def stimulate(self, xyz: Sequence[float] | None) -> bool:
+        """A motion-detector position: re-place the tracker if it is lost or > 120 mm off."""
+        if xyz is None:
+            return False
+        if not self.tracking or self._target is None or \
+                np.linalg.norm(np.asarray(xyz) - self._target) > REPLACE_MM:
+            self.place(xyz)
+            return True
+        return False
+
+    def reset(self) -> None:
+        """Forget the position history and stop tracking until placed again."""
+        super().reset()
+        self._samples.clear()
+        self.tracking = False
+
+    # -- per frame -----------------------------------------------------------------------
+    def process(self, frame: Frame) -> None:
+        """One video-rate cycle of all windows, then constraints and 3-D integration."""
+        if not self.tracking:
+            return
+        side_img = frame.side
+        before = self.palm["side"].center.copy()
+        ok_top = self.palm["top"].step(frame.top)
+        ok_side = self.palm["side"].step(side_img)
+        moved = self.palm["side"].center - before
+        for f in (*self.fingers, self.holder):  # the palm is their moving reference point
+            f.place(f.center + moved)
+        if not (ok_top and ok_side):
+            self.lost_frames += 1
+            if self.lost_frames > 3:
+                self.tracking = False  # ENV-node: the hand has disappeared
+            return
+        self.lost_frames = 0
+        palm3d = self.triangulate(self.palm["top"].feature, self.palm["side"].feature)
+        s = self.cameras["side"].mm_to_px(palm3d)
+        pf = self.palm["side"].feature
+        for f in self.fingers:  # offsets point away from the palm (Sec. III-C3)
+            away = f.center - pf
+            n = np.linalg.norm(away)
+            if n > 1e-6:  # half the window, the paper's typical offset length
+                f.offset = f.sign * away / n * (FINGER_WIN[1] / 2.0)
+            if f.step(side_img):
+                f.sign = 1.0
+        self._constrain(pf, s)
+        self._measure_holder(side_img)
+        # x, y from the stereo palm; height from the fingertips seen from the side.
+        tips = [f.tip for f in self.fingers if f.feature is not None]
+        if tips:
+            uv = (self.holder.center[0], float(np.mean(tips)))
+            front = palm3d[1] - FINGER_FRONT_MM
+            z = self.cameras["side"].point_on_plane(uv, 1, front)[2] + HOLDER_ABOVE_TIPS_MM
+        elif self._target is not None:
+            z = float(self._target[2])
+        else:
+            z = float(palm3d[2])
+        hx = np.array([palm3d[0], palm3d[1], z])
+        self._target = hx
+        self._samples.append((frame.t, hx))
+        self._found = True
+
+    def _constrain(self, pf: np.ndarray, s: float) -> None:
+        """Finger reach and gap, holder midway, palm above and near the holder."""
+        lo, hi = FINGER_REACH_MM[0] * s, FINGER_REACH_MM[1] * s
+        pts = []
+        for sign, f in zip((-1, 1), self.fingers, strict=True):
+            p = f.feature if f.feature is not None else f.center
+            d = p - pf
+            n = np.linalg.norm(d)
+            if n < 1e-6:
+                d, n = np.array([sign, 1.0]), np.sqrt(2.0)
+            p = pf + d / n * np.clip(n, lo, hi)
+            if sign * (p[0] - pf[0]) < 0:  # a finger never crosses to the other side
+                p[0] = pf[0]
+            pts.append(p)
+        gap = FINGER_GAP_MM * s
+        if pts[1][0] - pts[0][0] < gap:
+            mid = (pts[0][0] + pts[1][0]) / 2.0
+            pts[0][0], pts[1][0] = mid - gap / 2.0, mid + gap / 2.0
+        for f, p in zip(self.fingers, pts, strict=True):
+            if f.feature is not None:
+                f.feature = p
+        holder = (pts[0] + pts[1]) / 2.0
+        palm = self.palm["side"]
+        c = palm.center.copy()
+        c[1] = min(c[1], holder[1] - PALM_ABOVE_MM * s)
+        c[0] = np.clip(c[0], holder[0] - PALM_SIDEWAYS_MM * s, holder[0] + PALM_SIDEWAYS_MM * s)
+        palm.place(c)
+        self.holder.place(holder)
+
+    def _measure_holder(self, side_img: np.ndarray) -> None:
+        """Fraction of block-white pixels between the fingers (a held object, Sec. III-C3)."""
+        sub = self.holder.window.read(side_img)
+        self.holding_evidence = float(np.count_nonzero(sub >= BLOCK_MIN)) / max(1, sub.size)
+
+    # -- queries -------------------------------------------------------------------------
+    @property
+    def position(self) -> np.ndarray | None:
+        """Current 3-D hand (holder) position in mm, or None when not tracking."""
+        return self.target() if self.tracking else None
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """Hand velocity (mm/s): least-squares slope over the recent samples."""
+        if len(self._samples) < 3:
+            return np.zeros(3)
+        t = np.array([s[0] for s in self._samples])
+        x = np.array([s[1] for s in self._samples])
+        t = t - t.mean()
+        return (t @ (x - x.mean(axis=0))) / float(t @ t)

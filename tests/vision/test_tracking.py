@@ -1,0 +1,120 @@
+"""Resource manager, motion-detector and hand-tracker on rendered synthetic scenes."""
+
+import numpy as np
+import pytest
+
+from perception.vfd import Region3D
+from perception.vfd_hand import HandTracker
+from perception.vfd_motion import MotionDetector
+from perception.vfd_resources import MAX_WINDOWS, ResourceExhausted, VisionResources
+
+from .helpers import CAMS, Film, block, dist, hand
+
+BLOCKS = [block(-150, 200), block(100, 250), block(200, 80, (120, 100, 10))]
+
+
+def test_resource_manager_refuses_the_33rd_window_and_reuses_freed_ones():
+    res = VisionResources()
+    wins = [res.allocate("top") for _ in range(MAX_WINDOWS)]
+    with pytest.raises(ResourceExhausted):
+        res.allocate("side")
+    res.free(wins[5])
+    assert res.allocate("side").view == "side"
+    assert res.in_use == MAX_WINDOWS
+
+
+def test_a_detector_that_cannot_get_windows_fails_and_holds_none():
+    res = VisionResources(max_windows=4)
+    with pytest.raises(ResourceExhausted):
+        HandTracker(CAMS, res)  # needs 5 windows
+    assert res.in_use == 0
+
+
+def test_windows_count_only_the_pixels_they_read():
+    res = VisionResources()
+    w = res.allocate("top", (10, 20, 30, 30))
+    w.read(np.zeros((256, 256), np.uint8))
+    assert res.end_frame() == 200
+    coarse = res.allocate("top", (0, 0, 256, 256), step=4)
+    coarse.read(np.zeros((256, 256), np.uint8))
+    assert res.end_frame() == 64 * 64
+
+
+def _path(k):
+    """A hand moving diagonally and down at about 100 mm/s."""
+    t = k / 30.0
+    return np.array([-200 + 100 * t, 150 + 30 * np.sin(t), 150 - 13 * t])
+
+
+def test_motion_detector_finds_the_moving_hand_and_not_a_still_scene():
+    film, res = Film(), VisionResources()
+    md = MotionDetector(CAMS, res)
+    md.start()
+    for _ in range(10):
+        md.update(film.shoot(BLOCKS + hand(0, 200, 150)))
+    assert not md.found()  # noise alone is not motion
+    hits = []
+    for k in range(30):
+        p = _path(k)
+        md.update(film.shoot(BLOCKS + hand(*p)))
+        if md.found():
+            hits.append(dist(md.target()[:2], p[:2]))
+    assert len(hits) >= 8  # one sample per 83.5 ms
+    assert np.median(hits) < 40.0  # the centre of changed cells is on the hand
+
+
+def test_hand_tracker_follows_a_moving_hand_within_a_few_mm():
+    film, res = Film(), VisionResources()
+    md, ht = MotionDetector(CAMS, res), HandTracker(CAMS, res)
+    md.start()
+    errors, placed = [], False
+    for k in range(90):
+        p = _path(k)
+        frame = film.shoot(BLOCKS + hand(*p))
+        md.update(frame)
+        if md.found():
+            placed |= ht.stimulate(md.target())
+        ht.update(frame)
+        if ht.position is not None and k > 20:
+            errors.append(np.abs(ht.position - p))
+        res.end_frame()
+    assert placed
+    err = np.array(errors)
+    assert len(err) > 60
+    assert err.mean(axis=0).max() < 3.0 and err.max() < 8.0
+    assert dist(ht.velocity, (100, 30 * np.cos(3.0), -13)) < 20.0
+
+
+def test_hand_tracker_reports_loss_when_the_hand_leaves():
+    film, res = Film(), VisionResources()
+    ht = HandTracker(CAMS, res)
+    ht.place((0, 200, 150))
+    for _ in range(3):
+        ht.update(film.shoot(BLOCKS + hand(0, 200, 150)))
+    assert ht.found() and ht.position is not None
+    for _ in range(6):
+        ht.update(film.shoot(BLOCKS))
+    assert ht.position is None  # the ENV-node's :Disappeared
+
+
+def test_hand_tracker_is_replaced_when_motion_disagrees_by_more_than_120mm():
+    film, res = Film(), VisionResources()
+    ht = HandTracker(CAMS, res)
+    ht.place((0, 200, 150))
+    for _ in range(3):
+        ht.update(film.shoot(BLOCKS + hand(0, 200, 150)))
+    assert not ht.stimulate((50, 200, 150))
+    assert ht.stimulate((200, 100, 150))
+
+
+def test_attention_projects_a_region_into_both_views():
+    from perception.vfd import VFD
+    res = VisionResources()
+    v = VFD(CAMS, res)
+    v.attention(Region3D.around((0, 200, 25), (30, 30, 50)))
+    (top,), (side,) = v.windows["top"], v.windows["side"]
+    assert top.x0 < CAMS["top"].project(np.array([0, 200, 50]))[0][0] < top.x1
+    assert side.y0 < CAMS["side"].project(np.array([0, 200, 25]))[0][1] < side.y1
+    assert res.in_use == 2
+    v.free()
+    assert res.in_use == 0
