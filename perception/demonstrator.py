@@ -30,7 +30,7 @@ import numpy as np
 from .hand import Gripper, grasp_offset, pre_shape
 from .layout import Layout
 from .scene import Box
-from .world import SLOP, World
+from .world import World
 
 Vec3 = tuple[float, float, float]
 
@@ -42,7 +42,9 @@ NEAR_LIMIT = 160.0  # mm: approach start above the target's top (visual search r
 ENTRY = (-480.0, 200.0, 230.0)  # off the table, where the hand comes from and goes to
 ABSENT = 1.0  # s without the hand at the start and the end (initial/final state views)
 MAX_Z = 285.0  # mm: the hand stays within the cameras' view (z <= 300)
-CONTACT_GAP = 0.3  # mm left between blocks after an align slide toward another block
+CONTACT_GAP = 0.3
+HOVER = -0.1  # mm: a placed block is let go just touching (the contact slop), no drop
+QUIET = 0.1  # tremor scale during fine motions: the fingers do not shake blocks into others  # mm left between blocks after an align slide toward another block
 
 
 @dataclass(frozen=True)
@@ -58,6 +60,7 @@ class Segment:
     arc: float = 0.0  # mm added to z at mid-path (transfers go high over the table)
     action: tuple = ()  # ("open", width) | ("close",) | ("present", bool), at t0
     quiet: bool = False  # tremor reduced (fine motions)
+    lateral: str = ""  # "early": sideways part done first (approach), "late": last (depart)
 
 
 def min_jerk(tau: float) -> float:
@@ -91,8 +94,11 @@ class _Planner:
         """Append a segment from the current point to ``p1``."""
         if self.pending:
             action, self.pending = self.pending + action, ()
+        # The slant of an approach is taken out early (and put into a depart
+        # late) so a held block comes down vertically beside its neighbours.
+        lateral = {"approach": "early", "depart": "late"}.get(phase, "")
         self.segs.append(Segment(phase, step, self.t, self.t + duration, self.p, p1, arc,
-                                 action, quiet))
+                                 action, quiet, lateral))
         self.t += duration
         self.p = p1
 
@@ -150,13 +156,13 @@ class _Planner:
                 self.local(i, grip, c[2] + size[2] / 2, top, ("open", pre_shape(size)), fine)
                 held_dz = grasp_offset(size)
             else:
-                grip = _add(step.dest, (0, 0, held_dz - SLOP))
+                grip = _add(step.dest, (0, 0, held_dz + HOVER))
                 support_top = step.dest[2] - size[2] / 2
                 carried = top + size[2] + 20.0
                 fine = []
                 if step.align is not None:
                     for point in _slide_path(lay, step):
-                        fine.append(("fine", _add(point, (0, 0, held_dz - SLOP)), V_SLIDE, (),
+                        fine.append(("fine", _add(point, (0, 0, held_dz + HOVER)), V_SLIDE, (),
                                      0.5))
                 fine.append(("fine", fine[-1][1] if fine else grip, 1.0,
                              ("open", pre_shape(size)), 0.6))
@@ -208,13 +214,15 @@ class Demonstration:
         seg = self._segment(t)
         d = seg.t1 - seg.t0
         s = min_jerk((t - seg.t0) / d) if d > 0 else 1.0
-        p = [a + (b - a) * s for a, b in zip(seg.p0, seg.p1, strict=True)]
-        p[2] += seg.arc * math.sin(math.pi * s)
-        scale = 0.2 if seg.quiet else 1.0
+        sl = s if not seg.lateral else 1 - (1 - s) ** 3 if seg.lateral == "early" else s ** 3
+        p0, p1 = seg.p0, seg.p1
+        p = [p0[0] + (p1[0] - p0[0]) * sl, p0[1] + (p1[1] - p0[1]) * sl,
+             p0[2] + (p1[2] - p0[2]) * s + seg.arc * math.sin(math.pi * s)]
+        scale = QUIET if seg.quiet else 1.0
         if seg.phase in ("approach", "depart"):
             # fade towards the fine motion so the tremor does not jump at its ends
             u = s if seg.phase == "depart" else 1.0 - s
-            scale = 0.2 + 0.8 * min(1.0, 3.0 * u)
+            scale = QUIET + (1 - QUIET) * min(1.0, 3.0 * u)
         for axis, (amp, w, ph) in enumerate(self._tremor):
             p[axis] += scale * amp * sum(math.sin(w[k] * t + ph[k]) for k in range(3))
         return (p[0], p[1], p[2]), seg
