@@ -87,8 +87,11 @@ def compute_features(
             if diff is not None:
                 out[name] = diff.value
                 node.measured[name] = diff.position
-        else:
-            kinds = {spec.kinds.get(n.kind) for n in env.get(node.target)}
+        else:  # target-kind, or support-kind: the kind of what the targets rest on
+            targets = env.get(node.target)
+            if spec.source == "support-kind":
+                targets = env.get(s for n in targets for s in env.supports_of(n.name))
+            kinds = {spec.kinds.get(n.kind) for n in targets}
             out[name] = kinds.pop() if len(kinds) == 1 else None
     return out
 

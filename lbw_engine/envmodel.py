@@ -124,6 +124,14 @@ class EnvModel:
                 out.append(node)
         return out
 
+    def supports_of(self, name: str) -> list[str]:
+        """What ``name`` rests on, by the support relations of the rules."""
+        out: list[str] = []
+        for r in self.relations:
+            if r.type in self.rules.support_relations and r.subject == name:
+                out.extend(r.obj if isinstance(r.obj, tuple) else (r.obj,))
+        return out
+
     def supported_by(self, name: str) -> list[str]:
         """Objects resting on ``name``, directly or through others (they ride along)."""
         out: list[str] = []

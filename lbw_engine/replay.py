@@ -239,3 +239,35 @@ def recognize_trace(path: str | Path, rules: RuleSet):
     recognizer = Recognizer(rules, registry)
     recognizer.run(trace.frames())
     return recognizer, trace
+
+
+def script_trace(
+    rules: RuleSet, frames: list[list[dict[str, Any]]], name: str = "<script>"
+) -> Trace:
+    """An in-memory trace: frame i (from 1) holds the records ``frames[i-1]`` (no 't')."""
+    records = []
+    for index, frame in enumerate(frames, start=1):
+        for data in frame:
+            records.append(
+                _check_record(name, len(records) + 1, {"t": float(index), **data}, rules)
+            )
+    return Trace(name, records)
+
+
+def run_script(rules: RuleSet, frames: list[list[dict[str, Any]]]):
+    """A recognizer stepped through frame 0 (cold boot) and then one frame per list item.
+
+    The recognizer is left open (``finish`` not called) so tests can look at
+    its stack and ACT-nodes; an empty list is a frame in which nothing happens.
+    """
+    from .detectors import DetectorRegistry
+    from .recognizer import Recognizer
+
+    trace = script_trace(rules, frames)
+    recognizer = Recognizer(
+        rules, DetectorRegistry.for_rules(rules, replay_detectors(trace, rules))
+    )
+    recognizer.step(0.0)
+    for index in range(1, len(frames) + 1):
+        recognizer.step(float(index))
+    return recognizer

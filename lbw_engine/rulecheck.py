@@ -55,6 +55,7 @@ def _check_transitions(rules: R.RuleSet, reachable: set[str]) -> None:
                     f"a {row.direction!r} transition from level {level} must lead to level "
                     f"{want}, but {row.next} is at level {nxt}"
                 )
+    for row in rules.transitions.values():
         if row.motion not in reachable:
             raise row.at.error(f"this row can never fire: no transition creates {row.motion}")
         if row.key not in _awaited(rules, row.motion):
@@ -122,9 +123,9 @@ def check(rules: R.RuleSet) -> None:
             raise feature.at.error(f"detector {feature.detector!r} does not exist")
     rules.operations = {row.operation for rows in rules.classification.values() for row in rows}
     reachable = _reachable(rules)
+    _check_transitions(rules, reachable)
+    _check_redirections(rules, reachable)
     for motion, rows in rules.classification.items():
         if motion not in reachable:
             raise rows[0].at.error(f"this row can never fire: no transition creates {motion}")
-    _check_transitions(rules, reachable)
-    _check_redirections(rules, reachable)
     _check_effects(rules)

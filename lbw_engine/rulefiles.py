@@ -161,7 +161,11 @@ def _operations(directory: Path, events, motions):
                     kind, ("World", "HandLoc", "Loc", "Table"), "ENV-node class", spec, "kinds"
                 )
             values = tuple(kinds.values())
-        takes = {"snapshot-diff": ("detector", "values"), "target-kind": ("kinds",)}
+        takes = {
+            "snapshot-diff": ("detector", "values"),
+            "target-kind": ("kinds",),
+            "support-kind": ("kinds",),
+        }
         for key in ("detector", "values", "kinds"):
             if key in spec and key not in takes.get(source, ()):
                 reader.fail(f"feature {name!r} of source {source!r} takes no {key!r}", spec, key)

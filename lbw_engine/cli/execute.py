@@ -79,9 +79,12 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
     InputError when the plan and the scenario do not fit together; a task that
     cannot be done or does not verify gives ``success=False`` with a message.
     """
-    from perception.robot import Robot
+    from perception.robot import FINGERTIP, Robot
     from perception.world import World
 
+    if rules.tip != FINGERTIP:
+        raise InputError(f"gripper.tip must be the simulated gripper's {FINGERTIP:g} mm",
+                         file=rules.file, where="gripper.tip")
     if sc.execute is None:
         raise InputError("the scenario has no 'execute' workspace", file=sc.file, where="execute")
     taught = _taught(plan, sc)
@@ -106,7 +109,7 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
     names = list(matching.assigned)
     expected = model.settled(names)
     expected_sup = model.final_supports(names)
-    robot = Robot(world, rules.arm_frame, rules.home, on_step=on_step)
+    robot = Robot(world, rules.arm_frame, rules.home, on_step=on_step, finger=rules.finger)
     log = robot.execute(tr.commands)
     robot.settle(SETTLE_S)
     verdict = verify(expected, expected_sup, _final_state(world, start, measured, matching),

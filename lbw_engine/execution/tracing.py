@@ -176,8 +176,8 @@ def placement_goal(rel: Relation, focus: str, rules: CommandRules, model: ExecMo
         raise InputError(f"the placement of '{focus}' on the table has no :at position",
                          file=file, where=where)
     size = model.bodies[focus].size
-    base = max((top(model.bodies[s].position, model.bodies[s].size) for s in supports),
-               default=0.0)
+    rest = model.settled(supports)  # supports rest on theirs, not at their release height
+    base = max((top(rest[s], model.bodies[s].size) for s in supports), default=0.0)
     goal = (xy[0], xy[1], base + size[2] / 2 + rules.release_clearance)
     _check_free(goal, focus, model)
     return goal

@@ -139,7 +139,23 @@ def inverted_arch() -> Trace:
     return tr
 
 
+def pick_from_block() -> Trace:
+    """A brick standing on another is picked and put on the table (Sec. IX-B3)."""
+    objects = {
+        "brick1": obj("brick", (30.0, 30.0, 50.0), (0.0, 200.0)),
+        "brick2": obj("brick", (30.0, 30.0, 50.0), (0.0, 200.0)),
+    }
+    objects["brick2"]["position"][2] = 75.0  # brick2 stands on brick1
+    tr = Trace(objects)
+    tr.enter()
+    tr.pick("brick2")
+    tr.place("brick2", ["table"], (120.0, 200.0))
+    tr.leave()
+    return tr
+
+
 if __name__ == "__main__":
+    pick_from_block().write(HERE / "pick-from-block.jsonl")
     build_table().write(HERE / "fig20-build-table.jsonl")
     build_table().write(DEMO)
     inverted_arch().write(HERE / "fig12-inverted-arch.jsonl")
