@@ -20,10 +20,11 @@ from dataclasses import dataclass, field
 from lbw_engine.execution.commandrules import ArmFrame
 from lbw_engine.execution.expander import Command
 
-from .hand import Gripper
+from .hand import TIP, Gripper, GripperGeometry
 from .world import World
 
 Vec3 = tuple[float, float, float]
+FINGERTIP = TIP  # mm from the grip centre down to the fingertips (commands.yaml gripper.tip)
 
 
 @dataclass
@@ -39,14 +40,21 @@ class Robot:
     """Drives a gripper in a World from manipulator commands."""
 
     def __init__(self, world: World, frame: ArmFrame, home: Vec3, speed: float = 300.0,
-                 dt: float = 1 / 60, on_step: Callable[[World], None] | None = None) -> None:
-        """Put the arm's gripper into ``world`` at ``home`` (world mm), jaws open."""
+                 dt: float = 1 / 60, on_step: Callable[[World], None] | None = None,
+                 finger: Vec3 | None = None) -> None:
+        """Put the arm's gripper into ``world`` at ``home`` (world mm), jaws open.
+
+        ``finger`` is the finger box the command generator planned with
+        (commands.yaml ``gripper.finger``); the robot is built with the same.
+        """
         self.world = world
         self.frame = frame
         self.speed = speed  # mm/s, peak of the point-to-point profile
         self.dt = dt
         self.on_step = on_step
-        self.gripper = world.add_gripper(Gripper(tuple(home), opening=80.0, kind="arm"))
+        geometry = GripperGeometry(finger=tuple(finger)) if finger else GripperGeometry()
+        self.gripper = world.add_gripper(Gripper(tuple(home), opening=80.0, kind="arm",
+                                                 geometry=geometry))
         self.log = RobotLog()
         self._do = {"amove": self.amove, "open-hand": self.open_hand,
                     "close-hand": self.close_hand}

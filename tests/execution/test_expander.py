@@ -1,0 +1,122 @@
+"""Table IX: every macro and sub-command row, expanded by the generic expander.
+
+Each case starts the hand somewhere, expands one row of rules/commands.yaml
+and compares the emitted primitives (world coordinates) with the row.
+"""
+
+from pathlib import Path
+
+import pytest
+
+from lbw_engine.errors import InputError
+from lbw_engine.execution import commandrules
+from lbw_engine.execution.commandrules import Step
+from lbw_engine.execution.expander import Context, Expander
+from lbw_engine.execution.model import Body, ExecModel
+from lbw_engine.paths import default_rules_dir
+
+RULES = commandrules.load_dir(default_rules_dir())
+A = RULES.approach_height
+P1 = (40.0, 120.0, 25.0)  # a brick's centre on the table
+P2 = (-60.0, 200.0, 80.0)
+START = (150.0, 300.0, 150.0)  # the hand, away from P1 and below the approach height
+W = 30.0 + RULES.margin
+
+
+def _model(hand, held=None):
+    model = ExecModel({"b": Body("brick", (30.0, 30.0, 50.0), P1)}, RULES.support_relations, hand)
+    model.held = held
+    return model
+
+
+def _run(macro, args, hand=START, held=None):
+    model = _model(hand, held)
+    ex = Expander(RULES, model)
+    cmds = ex.run((Step(macro, args),), Context(goal=None, width=W, where="test"),
+                  scope={"p1": P1, "p2": P2})
+    out = [(c.name, c.world if c.world is not None else c.width) for c in cmds]
+    return out, model
+
+
+ROWS = [
+    # Table IX: TRANSFER(pos1, pos2) -> amove(pos1), amove(pos2)
+    ("TRANSFER", ("p1", "p2"), [("amove", P1), ("amove", P2)]),
+    # PICK(pos1) -> open-hand, go-pickpos(pos1), close-hand, go-maxheight
+    ("PICK", ("p1",), [("open-hand", W), ("amove", (P1[0], P1[1], START[2])), ("amove", P1),
+                       ("close-hand", None), ("amove", (P1[0], P1[1], A))]),
+    # PLACE(pos1) -> go-placepos(pos1), open-hand, go-maxheight
+    ("PLACE", ("p1",), [("amove", (P1[0], P1[1], START[2])), ("amove", P1), ("open-hand", W),
+                        ("amove", (P1[0], P1[1], A))]),
+    # go-pickpos(pos1) -> z <- hand-pos z; amove(pos1 x, pos1 y, z); amove(pos1)
+    ("go-pickpos", ("p1",), [("amove", (P1[0], P1[1], START[2])), ("amove", P1)]),
+    ("go-placepos", ("p2",), [("amove", (P2[0], P2[1], START[2])), ("amove", P2)]),
+    # go-maxheight: straight up to the approach height
+    ("go-maxheight", (), [("amove", (START[0], START[1], A))]),
+]
+
+
+@pytest.mark.parametrize("macro,args,want", ROWS, ids=[f"TableIX-{r[0]}" for r in ROWS])
+def test_table_ix_row(macro, args, want):
+    got, _ = _run(macro, args)
+    assert [n for n, _ in got] == [n for n, _ in want]
+    for (_, g), (_, w) in zip(got, want, strict=True):
+        assert g == pytest.approx(w)
+
+
+def test_pick_grasps_and_lifts_in_the_model():
+    _, model = _run("PICK", ("p1",))
+    assert model.held == "b"
+    assert model.bodies["b"].position == pytest.approx((P1[0], P1[1], A))
+
+
+def test_arm_coordinates_follow_the_configured_transform():
+    model = _model(START)
+    cmds = Expander(RULES, model).run((Step("amove", ("p1",)),), Context(None, W, "t"),
+                                      {"p1": P1})
+    assert cmds[0].arm == pytest.approx(RULES.arm_frame.to_arm(P1))
+    assert RULES.arm_frame.to_world(cmds[0].arm) == pytest.approx(P1)
+    assert cmds[0].arm != pytest.approx(P1)  # Fig. 24: arm and world frames differ
+
+
+def test_fig24_goal_positions_map_to_the_printed_arm_x_y():
+    # Fig. 24 prints GOAL-POSITION #f(-25.1 151.0 59.8) -> ARM #f(301.1 102.6 ...).
+    arm = RULES.arm_frame.to_arm((-25.1, 151.0, 59.8))
+    assert arm[:2] == pytest.approx((301.1, 102.6), abs=0.3)
+
+
+def test_null_moves_are_not_emitted():
+    got, _ = _run("go-pickpos", ("p1",), hand=(P1[0], P1[1], A))
+    assert got == [("amove", P1)]
+
+
+BAD = [
+    ("unknown-key", "approach_height: 200.0", "approach_height: 200.0\nspeed: 3",
+     "unknown key 'speed'"),
+    ("unknown-macro", "      - [go-pickpos, pos1]", "      - [go-pikpos, pos1]",
+     "unknown macro or primitive 'go-pikpos'"),
+    ("recursion", "      - [amove, {xy: hand-pos, z: approach}]", "      - [PICK, hand-pos]",
+     "recursive macro expansion"),
+    ("arity", "      - [amove, pos1]\n      - [amove, pos2]", "      - [amove, pos1, pos2]",
+     "'amove' takes 1 argument(s), got 2"),
+    ("unknown-name", "      - [amove, pos2]", "      - [amove, pos3]", "unknown name 'pos3'"),
+    ("bad-goal-source", "{goal: [object], steps: [[PICK", "{goal: [thing], steps: [[PICK",
+     "unknown name 'thing'"),
+    ("not-orthonormal", "    - [0.0, 0.0, -1.0]", "    - [0.0, 0.0, -2.0]", "orthonormal"),
+]
+
+
+@pytest.mark.parametrize("old,new,needle", [b[1:] for b in BAD], ids=[b[0] for b in BAD])
+def test_bad_commands_yaml_is_reported_with_file_and_line(tmp_path, old, new, needle):
+    text = (Path(default_rules_dir()) / "commands.yaml").read_text()
+    assert old in text
+    bad = text.replace(old, new, 1)
+    path = tmp_path / "commands.yaml"
+    path.write_text(bad)
+    with pytest.raises(InputError) as exc:
+        commandrules.load(path)
+    err = exc.value
+    assert needle in err.message
+    assert err.file == str(path) and err.line is not None
+    pairs = zip(text.splitlines(), bad.splitlines(), strict=False)
+    changed = next(i for i, (a, b) in enumerate(pairs, 1) if a != b)
+    assert abs(err.line - changed) <= 3

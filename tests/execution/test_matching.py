@@ -1,0 +1,61 @@
+"""Initial-state matching (Sec. VII-A steps 1-5): one case per situation the section names."""
+
+import pytest
+
+from lbw_engine.errors import TaskFailed
+from lbw_engine.execution.matching import Measured, match_initial_state
+
+BRICK, PLATE, CUBE = (30.0, 30.0, 50.0), (120.0, 100.0, 10.0), (40.0, 40.0, 40.0)
+
+
+def m(shape, x, y):
+    """A measured object resting on the table."""
+    size = {"brick": BRICK, "plate": PLATE, "cube": CUBE}[shape]
+    return Measured(shape, (float(x), float(y), size[2] / 2), size)
+
+
+TAUGHT = {
+    "brick1": {"shape": "brick", "position": [-150, 200, 25]},
+    "brick2": {"shape": "brick", "position": [-100, 320, 25]},
+    "plate1": {"shape": "plate", "position": [150, 220, 5]},
+    "cube9": {"shape": "cube", "position": [0, 50, 20]},  # taught but not used by the plan
+}
+
+# (taught, relevant, measured, expected name -> measured index, expected unmatched)
+CASES = [
+    pytest.param(TAUGHT, ["plate1", "brick1"], [m("brick", 10, 10), m("plate", 200, 300)],
+                 {"plate1": 1, "brick1": 0}, [], id="SecVIIA-two-stage-by-shape"),
+    pytest.param(TAUGHT, ["brick1", "plate1"],
+                 [m("cube", 0, 0), m("plate", 200, 300), m("brick", 10, 10), m("cube", 90, 90)],
+                 {"brick1": 2, "plate1": 1}, [0, 3], id="SecVIIA-irrelevant-objects-both-sides"),
+    pytest.param(TAUGHT, ["brick2", "brick1"],
+                 [m("brick", 50, 50), m("plate", 0, 0), m("brick", -50, 50), m("brick", 9, 9)],
+                 {"brick2": 0, "brick1": 2}, [1, 3],
+                 id="SecVIIA-equal-shapes-first-come-first-served"),
+    pytest.param(TAUGHT, [], [m("brick", 1, 1)], {}, [0], id="SecVIIA-empty-plan"),
+]
+
+
+@pytest.mark.parametrize("taught,relevant,measured,want,unmatched", CASES)
+def test_matching(taught, relevant, measured, want, unmatched):
+    got = match_initial_state(taught, relevant, measured)
+    assert got.assigned == want
+    assert got.unmatched == unmatched
+    assert got.positions == {n: measured[i].position for n, i in want.items()}
+
+
+@pytest.mark.parametrize(
+    "relevant,measured,needle",
+    [
+        pytest.param(["brick1", "plate1"], [m("brick", 1, 1), m("cube", 5, 5)], "plate1",
+                     id="SecVIIA-missing-shape"),
+        pytest.param(["brick1", "brick2"], [m("brick", 1, 1), m("plate", 5, 5)], "brick2",
+                     id="SecVIIA-too-few-of-a-shape"),
+        pytest.param(["ghost"], [m("brick", 1, 1)], "ghost", id="SecVIIA-unknown-plan-object"),
+    ],
+)
+def test_missing_shape_is_a_task_failure_naming_the_object(relevant, measured, needle):
+    with pytest.raises(TaskFailed) as exc:
+        match_initial_state(TAUGHT, relevant, measured)
+    assert f"'{needle}'" in str(exc.value)
+    assert exc.value.exit_code == 1

@@ -1,0 +1,130 @@
+"""Plan tracing (Sec. VII-A): goals, relative PLACE goals, the model, command counts."""
+
+from pathlib import Path
+
+import pytest
+
+from lbw_engine.errors import InputError, TaskFailed
+from lbw_engine.execution import commandrules
+from lbw_engine.execution import plan as planmod
+from lbw_engine.execution.model import Body, ExecModel
+from lbw_engine.execution.tracing import format_commands, trace
+from lbw_engine.paths import default_rules_dir
+
+DATA = Path(__file__).resolve().parent.parent / "data"
+RULES = commandrules.load_dir(default_rules_dir())
+SIZES = {"short-brick": (40.0, 40.0, 50.0), "planar-brick": (160.0, 60.0, 20.0),
+         "medium-brick": (30.0, 30.0, 60.0), "brick": (30.0, 30.0, 50.0),
+         "plate": (120.0, 100.0, 10.0), "cube": (40.0, 40.0, 40.0)}
+
+
+def model_of(objects, extra=()):
+    """A model with objects {name: (shape, x, y)} on the table, plus irrelevant ones."""
+    bodies = {}
+    for name, (shape, x, y) in objects.items():
+        s = SIZES[shape]
+        bodies[name] = Body(shape, s, (x, y, s[2] / 2))
+    for k, (shape, x, y) in enumerate(extra):
+        s = SIZES[shape]
+        bodies[f"unused-{k}"] = Body(shape, s, (x, y, s[2] / 2), relevant=False)
+    return ExecModel.from_measurements(bodies, RULES.support_relations, RULES.home)
+
+
+ARCH = planmod.load(DATA / "inverted-arch.plan.json")
+TABLE_PLAN = planmod.load(DATA / "build-table.plan.json")
+ARCH_OBJECTS = {"pillar": ("short-brick", 200, 300), "brick-a": ("medium-brick", 100, 80),
+                "brick-b": ("medium-brick", -220, 300)}
+
+
+def _goals(tr, operation):
+    return {op.focus: op.goal for op in tr.ops if op.operation == operation}
+
+
+@pytest.mark.parametrize("plank_at", [(-150.0, 100.0), (150.0, 60.0), (-200.0, 330.0)],
+                         ids=["Fig14-plank-left", "Fig14-plank-right", "Fig14-plank-far"])
+def test_relative_place_goals_follow_the_plank(plank_at):
+    model = model_of({**ARCH_OBJECTS, "plank": ("planar-brick", *plank_at)})
+    tr = trace(ARCH, RULES, model)
+    c = RULES.release_clearance
+    goals = _goals(tr, "PLACE-ON-BLOCK")
+    # The bricks go onto the plank where it lies now (20 mm plank, 60 mm bricks) ...
+    assert goals["brick-a"] == pytest.approx((plank_at[0] - 50, plank_at[1], 20 + 30 + c))
+    assert goals["brick-b"] == pytest.approx((plank_at[0] + 50, plank_at[1], 20 + 30 + c))
+    # ... and the plank onto the pillar, which went to its taught world position.
+    assert _goals(tr, "PLACE-ON-TABLE")["pillar"] == pytest.approx((-30, 130, 25 + c))
+    assert goals["plank"] == pytest.approx((-30, 130, 50 + 10 + c))
+    # The expected final state: the bricks rode along on the plank.
+    final = model.settled(["pillar", "plank", "brick-a", "brick-b"])
+    assert final["brick-a"] == pytest.approx((-80, 130, 100))
+    assert final["brick-b"] == pytest.approx((20, 130, 100))
+    supports = model.final_supports(["pillar", "plank", "brick-a", "brick-b"])
+    assert supports == {"pillar": ("on", ("table",)), "plank": ("on", ("pillar",)),
+                        "brick-a": ("on", ("plank",)), "brick-b": ("on", ("plank",))}
+
+
+TABLE_OBJECTS = {"brick1": ("brick", 150, 60), "brick2": ("brick", 250, 170),
+                 "brick3": ("brick", -250, 330), "brick4": ("brick", -160, 70),
+                 "plate1": ("plate", -150, 230)}
+
+
+def test_build_table_expands_to_45_commands_as_in_the_paper():
+    tr = trace(TABLE_PLAN, RULES, model_of(TABLE_OBJECTS))
+    assert len(tr.commands) == 45  # Sec. VIII: "Forty-five manipulator commands"
+    text = format_commands(tr)
+    assert text.count("<<Fetch>>") == 5 and text.count("<<Put>>") == 5
+    assert "GOAL-POSITION #f(" in text and "ARM GOAL POSITION #f(" in text
+    assert text.count("\n amove #f(") == 30 and text.count("open-hand") == 10
+
+
+def test_pick_goals_are_retargeted_to_the_measured_objects():
+    tr = trace(TABLE_PLAN, RULES, model_of(TABLE_OBJECTS))
+    for name, (shape, x, y) in TABLE_OBJECTS.items():
+        assert _goals(tr, "PICK")[name] == pytest.approx((x, y, SIZES[shape][2] / 2))
+
+
+def test_fake_touch_is_a_harmless_reach():
+    tr = trace(ARCH, RULES, model_of({**ARCH_OBJECTS, "plank": ("planar-brick", -150, 100)}))
+    touch = [op for op in tr.ops if op.operator == "fake01"]
+    assert [op.operation for op in touch] == ["REACH", "NO-OP", "WITHDRAW"]
+    moves = [c for op in touch for c in op.commands]
+    assert [c.name for c in moves] == ["amove"]
+    assert moves[0].world[2] == pytest.approx(RULES.approach_height)
+    assert moves[0].world[:2] == pytest.approx(ARCH_OBJECTS["brick-b"][1:])
+
+
+def test_goal_occupied_by_an_irrelevant_object_fails_naming_it():
+    model = model_of(TABLE_OBJECTS, extra=[("cube", -70, 215)])  # on brick2's leg spot
+    with pytest.raises(TaskFailed) as exc:
+        trace(TABLE_PLAN, RULES, model)
+    assert "'brick2'" in str(exc.value) and "unused-0" in str(exc.value)
+    assert "does not use" in str(exc.value)
+
+
+def test_unknown_operation_is_bad_input():
+    doc = {"root": "f", "operators": {"f": {"class": "FETCH", "base": ["brick1"],
+                                            "plot": ["$action", "jump01"]}}}
+    plan = planmod.parse(doc, "p.json")
+    with pytest.raises(InputError) as exc:
+        trace(plan, RULES, model_of({"brick1": ("brick", 0, 100)}))
+    assert "JUMP" in exc.value.message and exc.value.file == "p.json"
+
+
+@pytest.mark.parametrize(
+    "doc,needle",
+    [
+        ({"operators": {}}, "'root'"),
+        ({"root": "x", "operators": {}}, "root operator 'x'"),
+        ({"root": "a", "operators": {"a": {"class": "BUILD", "plot": ["$seq"]}}}, "a plot is"),
+        ({"root": "a", "operators": {"a": {"class": "BUILD", "plot": ["$action", "a"]}}},
+         "contains itself"),
+        ({"root": "a", "operators": {"a": {"class": "PUT", "plot": ["$action", "x"],
+                                           "sc_plus": [["on", "b"]]}}}, "a relation is"),
+        ({"root": "a", "operators": {"a": {"class": "PUT", "plot": ["$action", "Bad"]}}},
+         "neither an operator"),
+    ],
+    ids=["no-root", "unknown-root", "bad-plot", "cycle", "bad-relation", "bad-leaf"],
+)
+def test_bad_plans_are_input_errors(doc, needle):
+    with pytest.raises(InputError) as exc:
+        planmod.parse(doc, "plan.json")
+    assert needle in exc.value.message and exc.value.file == "plan.json"
