@@ -1,0 +1,88 @@
+"""`lbw execute`: hand-written plans run by the simulated robot in the bundled workspaces."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from lbw_engine.cli import main
+from lbw_engine.paths import bundled_scenario
+
+DATA = Path(__file__).resolve().parent.parent / "data"
+
+
+def run(tmp_path, plan, scenario, capsys):
+    out = tmp_path / "out"
+    code = main(["execute", str(DATA / plan), str(scenario), "--out", str(out)])
+    return code, out, capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name,count", [("build-table", 45), ("inverted-arch", 36)],
+                         ids=["SecVIII-build-table", "Fig14-inverted-arch"])
+def test_plan_executes_and_verifies(tmp_path, capsys, name, count):
+    code, out, err = run(tmp_path, f"{name}.plan.json", bundled_scenario(name), capsys)
+    report = json.loads((out / "execution.json").read_text())
+    assert code == 0, err + json.dumps(report.get("mismatches"))
+    assert report["success"] is True and report["mismatches"] == []
+    assert report["commands"] == count
+    text = (out / "commands.txt").read_text()
+    assert f"{count} manipulator commands" in text and "<<Fetch>>" in text
+    assert None not in report["robot"]["grasps"]  # every close-hand held a block
+
+
+def variant(tmp_path, name, execute_yaml, shapes_extra=""):
+    """The bundled scenario with another execution workspace (and maybe more shapes)."""
+    text = bundled_scenario(name).read_text()
+    head = text[: text.index("\nexecute:")]
+    if shapes_extra:
+        head = head.replace("shapes:\n", "shapes:\n" + shapes_extra, 1)
+    path = tmp_path / f"{name}-variant.yaml"
+    path.write_text(head + "\nexecute:\n  objects:\n" + execute_yaml)
+    return path
+
+
+IMPOSSIBLE = [
+    pytest.param(
+        "    leg-a: {shape: brick, at: [150, 60]}\n"
+        "    leg-b: {shape: brick, at: [250, 170]}\n"
+        "    leg-c: {shape: brick, at: [-250, 330]}\n"
+        "    leg-d: {shape: brick, at: [-160, 70]}\n", "", ["plate1", "plate"],
+        id="SecVIIA-shape-missing"),
+    pytest.param(
+        "    leg-a: {shape: brick, at: [150, 60]}\n"
+        "    leg-b: {shape: brick, at: [250, 170]}\n"
+        "    leg-c: {shape: brick, at: [-250, 330]}\n"
+        "    leg-d: {shape: brick, at: [-160, 70]}\n"
+        "    top: {shape: plate, at: [-150, 300]}\n"
+        "    junk: {shape: cube, at: [-70, 215]}\n",
+        "  cube: [40, 40, 40]\n", ["brick2", "occupied", "does not use"],
+        id="SecVIIA-goal-occupied-by-irrelevant-object"),
+]
+
+
+@pytest.mark.parametrize("execute_yaml,shapes,needles", IMPOSSIBLE)
+def test_impossible_workspace_fails_clearly(tmp_path, capsys, execute_yaml, shapes, needles):
+    scenario = variant(tmp_path, "build-table", execute_yaml, shapes)
+    code, out, err = run(tmp_path, "build-table.plan.json", scenario, capsys)
+    assert code == 1
+    assert "Traceback" not in err
+    for needle in needles:
+        assert needle in err
+    report = json.loads((out / "execution.json").read_text())  # published before exit 1
+    assert report["success"] is False and any(n in report["failure"] for n in needles)
+
+
+def test_plan_and_scenario_that_do_not_fit_are_bad_input(tmp_path, capsys):
+    code, out, err = run(tmp_path, "inverted-arch.plan.json", bundled_scenario("build-table"),
+                         capsys)
+    assert code == 2 and "pillar" in err
+    assert not (out / "execution.json").exists()
+
+
+def test_bad_plan_file_is_bad_input(tmp_path, capsys):
+    bad = tmp_path / "plan.json"
+    bad.write_text('{"root": "a", "operators": {"a": {"class": "BUILD"}}}')
+    code = main(["execute", str(bad), str(bundled_scenario("build-table")),
+                 "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and "plan.json" in err and "operators.a" in err

@@ -1,0 +1,62 @@
+"""Verification: a table of final states (Fig. 18's table, variously broken) -> verdict."""
+
+import pytest
+
+from lbw_engine.execution.verification import ObjectState, verify
+
+BRICK, PLATE = (30.0, 30.0, 50.0), (120.0, 100.0, 10.0)
+LEGS = {"brick1": (-70.0, 145.0), "brick2": (-70.0, 215.0), "brick3": (20.0, 215.0),
+        "brick4": (20.0, 145.0)}
+EXPECTED = {**{n: (x, y, 25.0) for n, (x, y) in LEGS.items()}, "plate1": (-25.0, 180.0, 55.0)}
+SUPPORTS = {**{n: ("on", ("table",)) for n in LEGS},
+            "plate1": ("on-multiple", ("brick1", "brick2", "brick3", "brick4"))}
+TYPES = ("on", "on-multiple")
+
+
+def built(**changes):
+    """The measured table, with some objects changed (a state, or None for missing)."""
+    state = {n: ObjectState(p, PLATE if n == "plate1" else BRICK) for n, p in EXPECTED.items()}
+    for name, new in changes.items():
+        if new is None:
+            del state[name]
+        else:
+            state[name] = new
+    return state
+
+
+CASES = [
+    ("Fig18-equivalent", built(), True, []),
+    ("Fig18-within-5mm", built(plate1=ObjectState((-21.0, 183.0, 55.2), PLATE)), True, []),
+    ("Fig18-plate-6mm-off", built(plate1=ObjectState((-19.0, 180.0, 55.0), PLATE)), False,
+     [("position", "plate1")]),
+    ("Fig18-leg-toppled", built(brick2=ObjectState((-70.0, 240.0, 15.0), (30, 30, 50), 1.57)),
+     False, [("toppled", "brick2"), ("relation", "brick2"), ("position", "brick2"),
+             ("relation", "plate1")]),
+    ("Fig18-plate-on-table", built(plate1=ObjectState((150.0, 300.0, 5.0), PLATE)), False,
+     [("relation", "plate1"), ("position", "plate1")]),
+    ("Fig18-plate-missing", built(plate1=None), False, [("missing", "plate1")]),
+    ("Fig18-leg-on-a-stray-block",
+     {**built(brick1=ObjectState((-70.0, 145.0, 45.0), BRICK),
+              plate1=ObjectState((-25.0, 180.0, 55.0), PLATE)),
+      "stray": ObjectState((-70.0, 145.0, 10.0), (40.0, 40.0, 20.0))},
+     False, [("relation", "brick1"), ("position", "brick1"), ("relation", "plate1")]),
+]
+
+
+@pytest.mark.parametrize("measured,success,kinds", [c[1:] for c in CASES],
+                         ids=[c[0] for c in CASES])
+def test_verdict(measured, success, kinds):
+    v = verify(EXPECTED, SUPPORTS, measured, TYPES)
+    assert v.success is success
+    assert sorted((m["kind"], m["object"]) for m in v.mismatches) == sorted(kinds)
+    for m in v.mismatches:
+        assert m["object"] in m["message"]
+    doc = v.to_json()
+    assert doc["success"] is success and len(doc["mismatches"]) == len(kinds)
+
+
+def test_measured_relations_are_reported():
+    v = verify(EXPECTED, SUPPORTS, built(), TYPES)
+    assert ["on-multiple", "plate1", ["brick1", "brick2", "brick3", "brick4"]] in v.relations
+    assert ["on", "brick1", "table"] in v.relations
+    assert v.positions["plate1"] == [-25.0, 180.0, 55.0]
