@@ -1,0 +1,82 @@
+"""Change-detector: snapshot subtraction in a target region (Sec. III-D1).
+
+``attention(region)`` puts a window on the region in each view; ``snapshot(frame)``
+keeps the window pixels at the start of a LocalMotion, ``compare(frame)`` takes
+the final snapshot and classifies the difference by area: an object appeared,
+disappeared, or nothing changed. Pixels of the hand's gray band in either
+snapshot are masked (the hand may still be in the region at the end). The
+centre of the changed area is triangulated (or, if only the side view changed,
+taken on the side view line at the region's depth).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from .camera import Camera
+from .frames import Frame
+from .vfd import DARK_MAX, HAND_BAND, VFD, VIEWS, band, centroid
+from .vfd_resources import VisionResources
+
+APPEARED, DISAPPEARED, NO_CHANGE = "appeared", "disappeared", "nochange"
+AREA_THRESHOLD = 0.12  # changed fraction of the region's image area that counts as a change
+
+
+class ChangeDetector(VFD):
+    """Qualitative change between two snapshots of a region: appeared/disappeared/nochange."""
+
+    def __init__(self, cameras: Mapping[str, Camera], resources: VisionResources,
+                 area_threshold: float = AREA_THRESHOLD) -> None:
+        """A detector with no region yet (call ``attention``)."""
+        super().__init__(cameras, resources)
+        self.area_threshold = area_threshold
+        self._first: dict[str, np.ndarray] = {}
+        self.result: str | None = None
+        self.changed_fraction: dict[str, float] = {}
+
+    def snapshot(self, frame: Frame) -> None:
+        """Initial snapshot of the region (start of the LocalMotion)."""
+        self._first = {v: self.windows[v][0].read(frame.view(v)).copy() for v in VIEWS}
+        self.result = None
+
+    def process(self, frame: Frame) -> None:
+        """Per-frame update: nothing to do between the two snapshots."""
+
+    def compare(self, frame: Frame) -> str:
+        """Final snapshot: classify the change and locate its centre."""
+        if not self._first:
+            raise RuntimeError("change-detector: compare() before snapshot()")
+        votes, centres = {}, {}
+        for v in VIEWS:
+            w = self.windows[v][0]
+            a, b = self._first[v], w.read(frame.view(v))
+            hand = band(a, *HAND_BAND) | band(b, *HAND_BAND)
+            obj_a, obj_b = (a > DARK_MAX) & ~hand, (b > DARK_MAX) & ~hand
+            appeared, gone = obj_b & ~obj_a, obj_a & ~obj_b
+            area = max(1, a.size)
+            net = (int(appeared.sum()) - int(gone.sum())) / area
+            votes[v] = net
+            self.changed_fraction[v] = abs(net)
+            mask = appeared if net > 0 else gone
+            c = centroid(mask)
+            if c is not None:
+                centres[v] = (w.x0 + c[0], w.y0 + c[1])
+        view = max(VIEWS, key=lambda v: abs(votes[v]))
+        if abs(votes[view]) < self.area_threshold:
+            self.result, self._target = NO_CHANGE, None
+            return self.result
+        self.result = APPEARED if votes[view] > 0 else DISAPPEARED
+        same = [v for v in VIEWS if abs(votes[v]) >= self.area_threshold / 2
+                and np.sign(votes[v]) == np.sign(votes[view]) and v in centres]
+        if len(same) == 2:
+            self._target = self.triangulate(centres["top"], centres["side"])
+        elif "side" in centres:
+            self._target = self.cameras["side"].point_on_plane(
+                centres["side"], 1, float(self.region.center[1]))
+        else:
+            self._target = self.cameras["top"].point_on_plane_z(
+                centres["top"], float(self.region.center[2]))
+        self._found = True
+        return self.result

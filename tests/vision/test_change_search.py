@@ -1,0 +1,99 @@
+"""Change-detector (Sec. III-D1) and guided visual search (Sec. III-E, Fig. 6)."""
+
+import numpy as np
+import pytest
+
+from perception.vfd import Region3D
+from perception.vfd_change import ChangeDetector
+from perception.vfd_resources import VisionResources
+from perception.vfd_search import SilFinder, snapshot_region, visual_search
+
+from .helpers import CAMS, Film, block, dist, hand
+
+BRICK = (30.0, 30.0, 50.0)
+OTHERS = [block(-200, 300), block(200, 80, (120, 100, 10))]
+T = (40.0, 220.0)  # where the target lies
+
+
+def _pick():
+    """Start: brick on the table, hand above. End: brick and hand gone upwards."""
+    b = block(*T)
+    return [b, *hand(T[0], T[1], 120)], [*hand(T[0], T[1], 260, 32), block(T[0], T[1], BRICK, 210)]
+
+
+def _place():
+    """Start: hand carrying the brick above the spot. End: brick on the table, hand above."""
+    start = [*hand(T[0], T[1], 140, 32), block(T[0], T[1], BRICK, 115)]
+    end = [block(*T), *hand(T[0], T[1], 100)]
+    return start, end
+
+
+def _touch():
+    """Hand comes down beside the brick and leaves: no change of the brick."""
+    b = block(*T)
+    return [b, *hand(T[0], T[1], 120)], [b, *hand(T[0], T[1], 40)]
+
+
+def _place_on_block():
+    """A brick set onto a plate: the region just above the plate."""
+    plate = block(T[0], T[1], (120, 100, 10))
+    start = [plate, *hand(T[0], T[1], 120, 32), block(T[0], T[1], BRICK, 95)]
+    end = [plate, block(T[0], T[1], BRICK, 10), *hand(T[0], T[1], 60)]
+    return start, end
+
+
+CASES = [  # (id, scenes, snapshot region, expected)
+    ("pick-disappeared", _pick, Region3D.around((T[0], T[1], 25), (35, 35, 55)), "disappeared"),
+    ("place-appeared", _place,  # the table spot the search found: region just above it
+     snapshot_region(Region3D.around((T[0], T[1], -0.5), (30, 30, 1)), BRICK), "appeared"),
+    ("touch-nochange", _touch, Region3D.around((T[0], T[1], 25), (35, 35, 55)), "nochange"),
+    ("place-on-block-appeared", _place_on_block,
+     snapshot_region(Region3D.around((T[0], T[1], 5), (120, 100, 10)), BRICK), "appeared"),
+]
+
+
+@pytest.mark.parametrize("make,region,expected", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_change_detector_classifies_pick_place_touch(make, region, expected):
+    start, end = make()
+    film, res = Film(), VisionResources()
+    cd = ChangeDetector(CAMS, res)
+    cd.attention(region)
+    cd.snapshot(film.shoot(OTHERS + start))
+    assert cd.compare(film.shoot(OTHERS + end)) == expected
+    if expected != "nochange":
+        assert cd.found()
+        assert dist(cd.target()[:2], T) < 15.0
+
+
+def test_snapshot_region_follows_fig6():
+    target = Region3D.around((0, 200, 25), (30, 30, 50))
+    assert np.allclose(snapshot_region(target).center, (0, 200, 25))
+    above = snapshot_region(target, (40, 40, 20))
+    assert np.isclose(above.lo[2], 50) and np.isclose(above.hi[2], 70)
+
+
+def test_visual_search_finds_a_block_under_the_empty_hand():
+    film, res = Film(), VisionResources()
+    frame = film.shoot(OTHERS + [block(*T), *hand(T[0], T[1], 110)])
+    r = visual_search(SilFinder(CAMS, res), frame, (T[0], T[1], 110))
+    assert r.found and r.cycles >= 1
+    assert dist(r.position[:2], T) < 15 and 0 < r.position[2] < 55
+
+
+def test_visual_search_finds_the_support_under_a_held_block():
+    film, res = Film(), VisionResources()
+    plate = block(T[0], T[1], (120, 100, 10))
+    frame = film.shoot([plate, block(T[0], T[1], BRICK, 60), *hand(T[0], T[1], 85, 32)])
+    r = visual_search(SilFinder(CAMS, res), frame, (T[0], T[1], 85), held_size=BRICK,
+                      held_center=(T[0], T[1], 85))
+    assert r.found
+    assert r.position[2] < 30  # the plate, not the held brick
+
+
+def test_visual_search_gives_up_over_the_bare_table_within_the_cycle_limit():
+    film, res = Film(), VisionResources()
+    frame = film.shoot(OTHERS + hand(T[0], T[1], 250))
+    r = visual_search(SilFinder(CAMS, res), frame, (T[0], T[1], 250))
+    assert not r.found and r.cycles == 4 and len(r.regions) == 5
+    low = visual_search(SilFinder(CAMS, res), frame, (T[0], T[1], 60))
+    assert not low.found and low.cycles == 1  # the table is one step away
