@@ -42,9 +42,9 @@ NEAR_LIMIT = 160.0  # mm: approach start above the target's top (visual search r
 ENTRY = (-480.0, 200.0, 230.0)  # off the table, where the hand comes from and goes to
 ABSENT = 1.0  # s without the hand at the start and the end (initial/final state views)
 MAX_Z = 285.0  # mm: the hand stays within the cameras' view (z <= 300)
-CONTACT_GAP = 0.3
+CONTACT_GAP = 0.3  # mm left between blocks after an align slide toward another block
 HOVER = -0.1  # mm: a placed block is let go just touching (the contact slop), no drop
-QUIET = 0.1  # tremor scale during fine motions: the fingers do not shake blocks into others  # mm left between blocks after an align slide toward another block
+QUIET = 0.1  # tremor scale during fine motions: the fingers do not shake blocks into others
 
 
 @dataclass(frozen=True)
