@@ -1,0 +1,51 @@
+"""Coplanar-detector (Fig. 5): aligned faces are coplanar, offset ones are not."""
+
+import pytest
+
+from perception.vfd import Region3D
+from perception.vfd_coplanar import CoplanarDetector
+from perception.vfd_resources import VisionResources
+
+from .helpers import CAMS, Film, block
+
+BRICK = (30.0, 30.0, 50.0)
+
+
+def _pair(x, y, dy, dx=0.0):
+    """Two bricks side by side along x (touching unless dx), the second shifted by dy."""
+    a = block(x, y, BRICK)
+    b = block(x + 30.0 + dx, y + dy, BRICK)
+    return a, b
+
+
+def _region(box):
+    return Region3D.around(box.center, box.size)
+
+
+CASES = [  # (id, x, y, dy, dx, face, coplanar)
+    ("north-aligned-far", -100, 320, 0, 0, "north", True),
+    ("north-offset-12mm-far", -100, 320, 12, 0, "north", False),
+    ("south-aligned-near", 60, 90, 0, 0, "south", True),
+    ("south-offset-10mm-near", 60, 90, -10, 0, "south", False),
+    ("north-aligned-with-gap", 150, 250, 0, 15, "north", True),
+    ("north-offset-8mm-near", -220, 60, 8, 0, "north", False),
+]
+
+
+@pytest.mark.parametrize("x,y,dy,dx,face,coplanar", [c[1:] for c in CASES],
+                         ids=[c[0] for c in CASES])
+def test_coplanar_detector(x, y, dy, dx, face, coplanar):
+    a, b = _pair(x, y, dy, dx)
+    frame = Film().shoot([a, b])
+    det = CoplanarDetector(CAMS, VisionResources())
+    assert det.check(frame, _region(a), _region(b), face) is coplanar
+    assert abs(det.step_mm - (-dy if face in ("north", "south") else 0.0)) < 4.5
+
+
+def test_east_faces_of_blocks_stacked_along_y():
+    a = block(0, 150, BRICK)
+    b = block(0, 180, BRICK)
+    c = block(14, 180, BRICK)
+    det = CoplanarDetector(CAMS, VisionResources())
+    assert det.check(Film().shoot([a, b]), _region(a), _region(b), "east")
+    assert not det.check(Film().shoot([a, c]), _region(a), _region(c), "east")
