@@ -22,12 +22,11 @@ def _fine(rec: Recognizer, node: ActNode) -> list[dict[str, Any]]:
     ]
 
 
-def operation_names(ops: list[str | None]) -> list[str]:
-    """Fig. 12 style names: the operation in lower case and a per-operation count."""
+def operation_names(labels: list[str]) -> list[str]:
+    """Fig. 12 style names: the operation's label and a per-label count."""
     counts: Counter[str] = Counter()
     out = []
-    for op in ops:
-        key = (op or "unknown").lower()
+    for key in labels:
         counts[key] += 1
         out.append(f"{key}{counts[key]:02d}")
     return out
@@ -36,7 +35,7 @@ def operation_names(ops: list[str | None]) -> list[str]:
 def to_actions(rec: Recognizer) -> dict[str, Any]:
     """The actions.json document of a finished recognizer."""
     history = rec.root.history if rec.root is not None else []
-    names = operation_names([n.operation for n in history])
+    names = operation_names([rec.rules.label(n.motion, n.operation) for n in history])
     ops = []
     for name, node in zip(names, history, strict=True):
         ops.append(

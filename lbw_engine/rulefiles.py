@@ -179,7 +179,7 @@ def _operations(directory: Path, events, motions):
         out: list[R.ClassRow] = []
         for index, row in enumerate(rows):
             row = reader.mapping(row, "a Table V row", rows, index)
-            reader.keys(row, "a Table V row", ("operation",), ("when",))
+            reader.keys(row, "a Table V row", ("operation",), ("when", "label"))
             operation = reader.name(row, "operation", "Table V row")
             when = reader.mapping(row.get("when", {}), "when", row, "when")
             for feature, value in when.items():
@@ -192,7 +192,8 @@ def _operations(directory: Path, events, motions):
                         f"this {motion} row can never fire: the row at line "
                         f"{earlier.at.line} already matches whenever it does"
                     )
-            out.append(R.ClassRow(motion, dict(when), operation, at))
+            label = reader.name(row, "label", "Table V row") if "label" in row else None
+            out.append(R.ClassRow(motion, dict(when), operation, at, label))
         classification[motion] = tuple(out)
     return features, classification
 

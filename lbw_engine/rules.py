@@ -127,6 +127,7 @@ class ClassRow:
     when: dict[str, Any]
     operation: str
     at: Where
+    label: str | None = None  # name stem in sequences (Fig. 12 "no01"); default: lower case
 
 
 @dataclass(frozen=True)
@@ -213,6 +214,13 @@ class RuleSet:
             if transition or redirections:
                 return transition, redirections
         return None, []
+
+    def label(self, motion: str, operation: str | None) -> str:
+        """Stem of an operation's name in a recognized sequence (Fig. 12)."""
+        for row in self.classification.get(motion, ()):
+            if row.operation == operation and row.label:
+                return row.label
+        return (operation or "unclassified").lower()
 
     def init_redirections(self, motion: str) -> list[RedirectionRow]:
         """The :Init rows of Table VIII for a motion class."""
