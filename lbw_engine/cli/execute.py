@@ -15,7 +15,7 @@ import argparse
 import math
 import sys
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import InputError, TaskFailed
@@ -53,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
         result = execute_plan(plan, sc, rules)
         out.write_text("commands.txt", result.commands_text)
         out.write_json("execution.json", result.report)
+        _write_views(out, result.views)
     if not result.success:
         print(f"lbw execute: {result.message}", file=sys.stderr)
         return 1
@@ -68,6 +69,7 @@ class ExecutionResult:
     commands_text: str
     report: dict[str, Any]
     trace: Trace | None = None
+    views: dict[str, Any] = field(default_factory=dict)  # name -> {"top": img, "side": img}
 
 
 def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
@@ -79,6 +81,8 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
     InputError when the plan and the scenario do not fit together; a task that
     cannot be done or does not verify gives ``success=False`` with a message.
     """
+    from perception.camera import default_cameras
+    from perception.render import Renderer
     from perception.robot import FINGERTIP, Robot
     from perception.world import World
 
@@ -90,7 +94,9 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
     taught = _taught(plan, sc)
     world = World(sc.execute.objects.values())
     world.settle(0.5)
-    measured, source = measure_initial_state(world, sc)
+    renderer = Renderer(default_cameras(), pixel_noise=sc.noise.pixel, seed=sc.seed)
+    views = {"execution-initial": renderer.render(world.scene())}
+    measured, source = measure_initial_state(world, sc, views["execution-initial"])
     start = world.positions()  # to name world bodies by plan object at the end
     report: dict[str, Any] = {
         "success": False,
@@ -105,13 +111,14 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
         tr = trace(plan, rules, model)
     except TaskFailed as exc:
         report.update(stage="instantiation", failure=str(exc), mismatches=[])
-        return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report)
+        return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report, None, views)
     names = list(matching.assigned)
     expected = model.settled(names)
     expected_sup = model.final_supports(names)
     robot = Robot(world, rules.arm_frame, rules.home, on_step=on_step, finger=rules.finger)
     log = robot.execute(tr.commands)
     robot.settle(SETTLE_S)
+    views["execution-final"] = renderer.render(world.scene())
     verdict = verify(expected, expected_sup, _final_state(world, start, measured, matching),
                      rules.support_relations)
     report.update(verdict.to_json())
@@ -127,7 +134,7 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
     msg = "the executed structure matches the plan" if verdict.success else \
         "execution did not verify: " + "; ".join(m["message"] for m in verdict.mismatches)
     title = f"plan {plan.root} in {sc.name}"
-    return ExecutionResult(verdict.success, msg, format_commands(tr, title), report, tr)
+    return ExecutionResult(verdict.success, msg, format_commands(tr, title), report, tr, views)
 
 
 def _taught(plan: Plan, sc: Any) -> dict[str, dict]:
@@ -144,12 +151,12 @@ def _taught(plan: Plan, sc: Any) -> dict[str, dict]:
     return taught
 
 
-def measure_initial_state(world: Any, sc: Any) -> tuple[list[Measured], str]:
+def measure_initial_state(world: Any, sc: Any, images: dict) -> tuple[list[Measured], str]:
     """The execution workspace's objects as measured, and where the measurement came from.
 
-    The object-finder (through the cameras) is the intended source
-    (Sec. VII-A 3); until perception provides it, the world's ground truth is
-    used and the report says so.
+    The object-finder reading ``images`` (the two camera views) is the intended
+    source (Sec. VII-A 3); until perception provides one, the world's ground
+    truth is used and the report says so.
     """
     pos = world.positions()
     out = [Measured(sc.execute.objects[n].shape, pos[n], world.sizes[n]) for n in world.names]
@@ -189,6 +196,15 @@ def _final_state(world: Any, start: dict[str, tuple], measured: list[Measured],
         if b not in taken:
             out[f"unused:{b}"] = ObjectState(pos[b], world.sizes[b], ang[b])
     return out
+
+
+def _write_views(out: OutputDir, views: dict[str, Any]) -> None:
+    """Stage each view pair as one PNG: top and side camera images side by side."""
+    import cv2
+    import numpy as np
+
+    for name, imgs in views.items():
+        cv2.imwrite(str(out.path(f"{name}.png")), np.hstack([imgs["top"], imgs["side"]]))
 
 
 def _r(v: Any) -> list[float]:

@@ -28,6 +28,8 @@ def test_plan_executes_and_verifies(tmp_path, capsys, name, count):
     text = (out / "commands.txt").read_text()
     assert f"{count} manipulator commands" in text and "<<Fetch>>" in text
     assert None not in report["robot"]["grasps"]  # every close-hand held a block
+    for view in ("execution-initial.png", "execution-final.png"):  # the cameras' views
+        assert (out / view).stat().st_size > 0
 
 
 def variant(tmp_path, name, execute_yaml, shapes_extra=""):
