@@ -64,7 +64,7 @@ def _check_transitions(rules: R.RuleSet, reachable: set[str]) -> None:
             )
 
 
-def _check_redirections(rules: R.RuleSet, reachable: set[str]) -> None:
+def _check_redirections(rules: R.RuleSet) -> None:
     keys = _keys_of(rules)
     for motion, rows in rules.redirections.items():
         for row in rows:
@@ -74,6 +74,11 @@ def _check_redirections(rules: R.RuleSet, reachable: set[str]) -> None:
                 raise row.at.error(f"event {row.key!r} does not exist")
             if row.event is not None and row.event not in rules.events:
                 raise row.at.error(f"event {row.event!r} does not exist")
+
+
+def _check_redirections_fire(rules: R.RuleSet, reachable: set[str]) -> None:
+    for motion, rows in rules.redirections.items():
+        for row in rows:
             if motion not in reachable:
                 raise row.at.error(f"this row can never fire: no transition creates {motion}")
             if row.key != R.INIT and row.key not in _awaited(rules, motion):
@@ -122,9 +127,10 @@ def check(rules: R.RuleSet) -> None:
         if feature.detector is not None and feature.detector not in rules.detectors:
             raise feature.at.error(f"detector {feature.detector!r} does not exist")
     rules.operations = {row.operation for rows in rules.classification.values() for row in rows}
+    _check_redirections(rules)
     reachable = _reachable(rules)
     _check_transitions(rules, reachable)
-    _check_redirections(rules, reachable)
+    _check_redirections_fire(rules, reachable)
     for motion, rows in rules.classification.items():
         if motion not in reachable:
             raise rows[0].at.error(f"this row can never fire: no transition creates {motion}")
