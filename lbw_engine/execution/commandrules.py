@@ -9,7 +9,7 @@ with errors naming the file and line, so a bad file stops before anything runs.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -45,9 +45,9 @@ JAW_AXES = {"x": 0, "y": 1}
 
 _TOP = {
     "arm_frame", "approach_height", "home", "skip_null_moves", "gripper", "release_clearance",
-    "support_relations", "focus", "operations", "macros",
+    "support_relations", "focus", "operations", "macros", "labels",
 }
-_REQUIRED = _TOP - {"skip_null_moves", "release_clearance"}
+_REQUIRED = _TOP - {"skip_null_moves", "release_clearance", "labels"}
 
 Expr = str | tuple[str, str]  # a name, or (xy-name, z-name) for {xy: P, z: Q}
 
@@ -121,6 +121,11 @@ class CommandRules:
     operations: dict[str, OperationRule]
     macros: dict[str, Macro]
     file: str = "<string>"
+    labels: dict[str, str] = field(default_factory=dict)  # LABEL (upper case) -> operation
+
+    def operation_of(self, word: str) -> str:
+        """The operation a plan leaf's label names (``NO`` -> ``NO-OP``)."""
+        return self.labels.get(word.upper(), word.upper())
 
     def grip_offset(self, size: tuple[float, float, float]) -> float:
         """Height of the grip centre above an object's centre when holding it."""
@@ -221,7 +226,22 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
         operations=operations,
         macros=macros,
         file=file,
+        labels=_labels(cx, doc, operations),
     )
+
+
+def _labels(cx: _Ctx, doc: Any, operations: dict[str, OperationRule]) -> dict[str, str]:
+    """The optional labels section: leaf label -> an operation defined above."""
+    raw = doc.get("labels", {})
+    if not isinstance(raw, dict):
+        raise cx.fail("must be a mapping of label -> operation", doc, "labels", "labels")
+    out = {}
+    for label, op in raw.items():
+        if not isinstance(label, str) or op not in operations:
+            raise cx.fail(f"'{op}' is not an operation of this file", raw, label,
+                          f"labels.{label}")
+        out[label.upper()] = op
+    return out
 
 
 def _arm_frame(cx: _Ctx, raw: Any) -> ArmFrame:

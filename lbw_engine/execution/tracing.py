@@ -83,7 +83,7 @@ def trace(plan: Plan, rules: CommandRules, model: ExecModel) -> Trace:
 def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
           op: Operator, leaf: str) -> TracedOp:
     """Find one leaf's goal and expand its steps."""
-    operation = plan.leaf_operations[leaf]
+    operation = rules.operation_of(plan.leaf_operations[leaf])
     where = f"operators.{op.name}.plot: {leaf}"
     rule = rules.operations.get(operation)
     if rule is None:
