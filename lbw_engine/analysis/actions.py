@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
+from .gcpause import without_gc
 from .relations import Rel, RelationTable
 
 # Names must be writable in the plot notation of plan.txt (rules/plot.lark NAME).
@@ -73,6 +74,7 @@ def _reject_constant(name: str) -> Any:
     raise ValueError(f"invalid JSON: {name} is not a number allowed in actions.json")
 
 
+@without_gc
 def parse_actions(doc: Any, table: RelationTable, file: str = "<actions>") -> ActionSequence:
     """Check an actions.json document and build the ActionSequence."""
 

@@ -65,8 +65,13 @@ class _Index:
 
         out = []
         if kind == "C-T":
-            for sharing in self.by_role["target"].values():
-                sharing = [op for op in sharing if keep(op)]
+            sharers = self.by_role["target"]
+            if among is not None:
+                sharers = defaultdict(list)
+                for p in sorted(among):
+                    for obj in self.ops[p].target:
+                        sharers[obj].append(self.ops[p])
+            for sharing in sharers.values():
                 # A chain over the sharers connects them all without n² pairs.
                 out.extend((self.pos[id(a)], self.pos[id(b)])
                            for a, b in zip(sharing, sharing[1:], strict=False))

@@ -20,6 +20,7 @@ from ..errors import InputError
 from .actions import ActionSequence, Operation, load_actions
 from .config import AnalysisRules, load_rules
 from .dependency import Planner
+from .gcpause import without_gc
 from .relations import RelationTable, sorted_json
 from .state import Member, Operator
 from .templates import build_step1, load_templates, parse_sequence
@@ -36,6 +37,7 @@ class Analysis:
     plan: dict[str, Any]  # the plan.json document
 
 
+@without_gc
 def analyze_file(actions_path: str | Path, rules_dir: str | Path | None = None) -> Analysis:
     """Load rules and an actions.json file and analyse it."""
     rules = load_rules(rules_dir)
@@ -44,6 +46,7 @@ def analyze_file(actions_path: str | Path, rules_dir: str | Path | None = None) 
     return analyze(seq, rules)
 
 
+@without_gc
 def analyze(seq: ActionSequence, rules: AnalysisRules) -> Analysis:
     """Plan analysis of Sec. VI on a loaded action sequence."""
     tpl = load_templates(rules)
