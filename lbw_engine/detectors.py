@@ -38,7 +38,7 @@ class ObjectInfo:
 class Detection:
     """What a detector reports for one query or one snapshot comparison.
 
-    found:     names of ENV-nodes the event concerns (the Locs near the hand,
+    found:     names of ENV-nodes the event concerns (the Locs close to the hand,
                ``hand`` for a newly found moving hand, the objects located).
     value:     a qualitative value (a Table IV motion value, a Table V change
                value such as the change-detector's).
@@ -88,7 +88,7 @@ class Detector(Protocol):
 
 
 class ConstantDetector:
-    """The engine's own detector for events that hold at once (Table VII ":True")."""
+    """The engine's own detector for events that hold at once (Table VII, row 1)."""
 
     def begin_frame(self, t: float, frame: Any) -> None:
         """Nothing to read."""

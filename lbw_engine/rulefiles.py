@@ -124,7 +124,7 @@ def _motions(directory: Path) -> dict[str, R.MotionClass]:
         for flag in ("start", "root", "fine"):
             flags[flag] = spec.get(flag, False)
             if not isinstance(flags[flag], bool):
-                reader.fail(f"{flag!r} must be true or false", spec, flag)
+                reader.fail(f"{flag!r} must be a boolean", spec, flag)
         at = R.Where(reader.file, line_of(table, name))
         motions[name] = R.MotionClass(name, level, flags["start"], flags["root"], flags["fine"], at)
     for flag in ("start", "root"):
