@@ -7,8 +7,16 @@ import time
 import numpy as np
 
 from perception.camera import default_cameras
+from perception.frames import Frame
 from perception.render import Renderer
 from perception.scene import Box
+from perception.vfd import Region3D
+from perception.vfd_change import ChangeDetector
+from perception.vfd_hand import HandTracker
+from perception.vfd_motion import MotionDetector
+from perception.vfd_objects import ObjectFinder
+from perception.vfd_resources import VisionResources
+from perception.vfd_search import SilFinder, visual_search
 
 FPS = 30.0
 
@@ -24,8 +32,10 @@ def build_table_scene(k: int, rng: np.random.Generator) -> list[Box]:
     x = -200 + 400 * s + rng.normal(0, 1.0)
     y = 150 + 100 * np.sin(2 * np.pi * s) + rng.normal(0, 1.0)
     z = 90 + 60 * np.cos(2 * np.pi * s) + rng.normal(0, 1.0)
-    hand = [Box("hand", (x, y, z + 35), (50, 50, 30)), Box("hand", (x - 20, y, z), (10, 20, 40)),
-            Box("hand", (x + 20, y, z), (10, 20, 40))]
+    # The gripper of perception.hand: grip centre (x, y, z), fingertips 10 mm below it.
+    hand = [Box("hand", (x, y, z + 55), (50, 50, 30)),
+            Box("hand", (x - 35, y, z + 15), (10, 20, 50)),
+            Box("hand", (x + 35, y, z + 15), (10, 20, 50))]
     return hand + blocks
 
 
@@ -46,9 +56,75 @@ def bench_render(frames: int = 1000, repeats: int = 5) -> dict:
             "render_realtime_factor": 1.0 / dt / FPS}
 
 
+def _frames(n: int) -> tuple[list[Frame], list[np.ndarray]]:
+    """Rendered frames of the moving-hand scene and the true grip centres."""
+    rng = np.random.default_rng(1)
+    renderer = Renderer(default_cameras(), pixel_noise=2.0, seed=1)
+    frames, truth = [], []
+    for k in range(n):
+        scene = build_table_scene(k, rng)
+        imgs = renderer.render(scene)
+        frames.append(Frame(k, k / FPS, imgs["top"], imgs["side"]))
+        palm = scene[0].center
+        truth.append(np.array([palm[0], palm[1], palm[2] - 55.0]))
+    return frames, truth
+
+
+def _time(fn, repeats: int = 20) -> float:
+    """Median wall time of ``fn()`` in microseconds."""
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times)) * 1e6
+
+
+def bench_detectors(n: int = 480) -> dict:
+    """Per-frame cost and pixels read by the always-on detectors, plus one-shot detectors."""
+    cams = default_cameras()
+    frames, truth = _frames(n)
+    res = VisionResources()
+    md, ht = MotionDetector(cams, res), HandTracker(cams, res)
+    md.start()
+    t_md = t_ht = 0.0
+    errors = []
+    for frame, p in zip(frames, truth, strict=True):
+        t0 = time.perf_counter()
+        md.update(frame)
+        t1 = time.perf_counter()
+        if md.found():
+            ht.stimulate(md.target())
+        ht.update(frame)
+        t2 = time.perf_counter()
+        t_md, t_ht = t_md + t1 - t0, t_ht + t2 - t1
+        res.end_frame()
+        if ht.position is not None and frame.index > 30:
+            errors.append(np.linalg.norm(ht.position - p))
+    full = 2 * 256 * 256
+    frame = frames[0]
+    shapes = {"brick": [30, 30, 50], "plate": [120, 100, 10]}
+    cd = ChangeDetector(cams, VisionResources())
+    cd.attention(Region3D.around((-150, 200, 25), (35, 35, 55)))
+    cd.snapshot(frame)
+    return {
+        "motion_detector_us_per_frame": t_md / n * 1e6,
+        "hand_tracker_us_per_frame": t_ht / n * 1e6,
+        "pixels_read_fraction_of_two_frames": float(np.mean(res.history)) / full,
+        "hand_error_mm_median": float(np.median(errors)),
+        "hand_error_mm_p95": float(np.percentile(errors, 95)),
+        "visual_search_us": _time(lambda: visual_search(SilFinder(cams, VisionResources()),
+                                                        frame, (-150, 200, 150))),
+        "change_compare_us": _time(lambda: cd.compare(frames[1])),
+        "object_finder_ms": _time(lambda: ObjectFinder(cams, VisionResources()).find(
+            frame, shapes), 3) / 1000.0,
+    }
+
+
 def main(argv: list[str]) -> dict:
     """Run the vision benchmarks, print a table and return the figures."""
     figures = bench_render()
+    figures.update(bench_detectors())
     for key, value in figures.items():
-        print(f"   {key:32s} {value:12.1f}")
+        print(f"   {key:36s} {value:12.4g}")
     return figures
