@@ -1,0 +1,97 @@
+"""The interpreter beyond the tables: FineMotion ALIGN (Fig. 11), env-model
+updates (Sec. V-B4), end of input, and the detector registry."""
+
+import pytest
+
+from lbw_engine.actions import to_actions
+from lbw_engine.detectors import Detection, DetectorRegistry
+from lbw_engine.envmodel import EnvModel
+from lbw_engine.errors import InputError
+from lbw_engine.recognizer import Recognizer
+from lbw_engine.replay import run_script
+from lbw_engine.rules import load_rules
+
+RULES = load_rules()
+B = {"shape": "brick", "size": [30, 30, 50]}
+LOCATE = [{"event": "loc-exist", "found": ["b1", "b2"], "objects": {
+    "b1": {**B, "position": [0, 200, 25]}, "b2": {**B, "position": [100, 200, 25]}}}]
+ENTER = [{"event": "found-moving", "found": ["hand"], "positions": {"hand": [0, 300, 200]}}]
+DOWN = [{"event": "small-motion", "value": "moving-down"}]
+PICK_B1 = [DOWN, [{"event": "near", "found": ["b1"]}],
+           [{"event": "far", "positions": {"hand": [0, 200, 150]}},
+            {"detector": "change-detector", "value": "decreased", "at": [0, 200, 25]}]]
+PLACE_ON_B2_ALIGNED = [
+    DOWN, [{"event": "near", "found": ["b2"]}], [{"event": "join"}],
+    [{"event": "split"}, {"detector": "coplanar-detector", "value": "positive"}],
+    [{"event": "far"}, {"detector": "change-detector", "value": "increased", "at": [98, 203, 70]}],
+]
+
+
+def test_align_during_a_place():
+    rec = run_script(RULES, [LOCATE, ENTER, *PICK_B1, *PLACE_ON_B2_ALIGNED])
+    place = rec.root.history[-1]
+    assert place.operation == "PLACE-ON-BLOCK"
+    assert [(n.motion, n.operation) for n in place.history] == [
+        ("Approach", "APPROACH-WITH-OBJ"), ("FineMotion", "ALIGN"), ("Depart", "DEPART-WITH-OBJ")]
+    assert [f["operation"] for f in to_actions(rec)["operations"][-1]["fine"]] == ["ALIGN"]
+    fine = place.history[1]
+    assert (fine.base, fine.target) == (("b1",), ("b2",))  # the held block meets the target
+    assert ["coplanar", "b1", "b2"] in [r.to_json() for r in rec.env.relations]
+
+
+def test_place_recomputes_height_from_supports():
+    """The change-detector measured z = 70; the model puts b1 on b2's top: 50 + 25."""
+    rec = run_script(RULES, [LOCATE, ENTER, *PICK_B1, *PLACE_ON_B2_ALIGNED])
+    assert rec.env.nodes["b1"].position == (98.0, 203.0, 75.0)
+    on = [r for r in rec.env.relations if r.subject == "b1" and r.type == "on"]
+    assert [(r.obj, r.at, r.wrt) for r in on] == [("b2", (-2.0, 3.0, 50.0), "b2")]
+
+
+def test_held_block_follows_the_hand():
+    rec = run_script(RULES, [LOCATE, ENTER, *PICK_B1, [{
+        "event": "small-motion", "value": "moving-laterally",
+        "positions": {"hand": [50, 250, 160]}}]])
+    assert rec.env.held() == ("b1",)
+    assert rec.env.nodes["b1"].position == (50.0, 250.0, 35.0)  # offset kept: 25 - 150 + 160
+
+
+def test_end_of_input_closes_open_motions():
+    rec = run_script(RULES, [LOCATE, ENTER, DOWN])
+    rec.finish()
+    ops = to_actions(rec)["operations"]
+    assert [(o["operation"], o["final_event"]) for o in ops] == [("WITHDRAW", None)]
+    assert rec.finished and rec.stack.describe() == []
+
+
+def test_registry_needs_every_detector_the_rules_name():
+    with pytest.raises(InputError, match="has no implementation"):
+        DetectorRegistry.for_rules(RULES, {})
+
+
+class Scripted:
+    """A detector double that answers one event once, from a velocity (Table IV path)."""
+
+    def __init__(self):
+        self.frames = []
+
+    def begin_frame(self, t, frame):
+        self.frames.append((t, frame))
+
+    def query(self, event, base, target, env):
+        if event == RULES.transitions[("Task", "loc-exist")].key:
+            return Detection(found=(), objects={})
+        return None
+
+    def snapshot(self, act, env):
+        return None
+
+    def compare(self, first, last, act, env):
+        return None
+
+
+def test_frames_reach_every_detector_once_per_frame():
+    double = Scripted()
+    provided = {name: double for name, d in RULES.detectors.items() if not d.builtin}
+    rec = Recognizer(RULES, DetectorRegistry.for_rules(RULES, provided), EnvModel(RULES))
+    rec.run([(0.0, "frame0"), (0.1, "frame1")])
+    assert double.frames == [(0.0, "frame0"), (0.1, "frame1")]
