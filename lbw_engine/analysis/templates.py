@@ -124,14 +124,10 @@ def parse_sequence(tpl: Templates, seq: ActionSequence) -> Tree:
             f"operation {exc.word} is not in the templates of {tpl.file.name}; "
             f"around it: {_around(ops, exc.index)}",
             file=seq.file, where=f"operations[{exc.index}]") from None
-    except UnexpectedEOF as exc:
-        expected = ", ".join(sorted(tpl.shown.get(e, e) for e in exc.expected))
-        raise InputError(
-            f"the sequence ends inside a template (expected {expected}); "
-            f"around it: {_around(ops, len(ops))}",
-            file=seq.file, where=f"operations[{len(ops)}]") from None
     except UnexpectedInput as exc:
         token = getattr(exc, "token", None)
+        if isinstance(exc, UnexpectedEOF) or (token is not None and token.type == "$END"):
+            _ended_inside(exc, tpl, seq)
         index = token.start_pos if token is not None else exc.pos_in_stream
         accepts = getattr(exc, "accepts", None) or getattr(exc, "expected", set())
         expected = ", ".join(sorted({tpl.shown.get(e, e) for e in accepts if e != "$END"}))
@@ -140,6 +136,17 @@ def parse_sequence(tpl: Templates, seq: ActionSequence) -> Tree:
             f"no template covers {ops[index].operation} here ({allowed}); "
             f"around it: {_around(ops, index)}",
             file=seq.file, where=f"operations[{index}]") from None
+
+
+def _ended_inside(exc: UnexpectedInput, tpl: Templates, seq: ActionSequence) -> None:
+    """The sequence stopped in the middle of a template (e.g. still holding an object)."""
+    ops = seq.operations
+    accepts = getattr(exc, "accepts", None) or getattr(exc, "expected", set())
+    expected = ", ".join(sorted({tpl.shown.get(e, e) for e in accepts if e != "$END"}))
+    raise InputError(
+        f"the sequence ends inside a template (expected {expected}); "
+        f"around it: {_around(ops, len(ops))}",
+        file=seq.file, where=f"operations[{len(ops)}]") from None
 
 
 def build_step1(
