@@ -98,9 +98,11 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
     views = {"execution-initial": renderer.render(world.scene())}
     measured, source = measure_initial_state(world, sc, views["execution-initial"])
     start = world.positions()  # to name world bodies by plan object at the end
+    errors = [min(math.dist(m.position, p) for p in start.values()) for m in measured]
     report: dict[str, Any] = {
         "success": False,
-        "initial_state": {"source": source,
+        "initial_state": {"source": source, "objects_in_world": len(start),
+                          "max_error_mm": round(max(errors, default=0.0), 1),
                           "measured": [{"shape": m.shape, "position": _r(m.position),
                                         "size": list(m.size)} for m in measured]},
     }
@@ -152,15 +154,22 @@ def _taught(plan: Plan, sc: Any) -> dict[str, dict]:
 
 
 def measure_initial_state(world: Any, sc: Any, images: dict) -> tuple[list[Measured], str]:
-    """The execution workspace's objects as measured, and where the measurement came from.
+    """The execution workspace's objects as the object-finder sees them (Sec. VII-A 3).
 
-    The object-finder reading ``images`` (the two camera views) is the intended
-    source (Sec. VII-A 3); until perception provides one, the world's ground
-    truth is used and the report says so.
+    The finder reads only the two camera images; the world is passed for the
+    report's ground-truth comparison, never to the finder.
     """
-    pos = world.positions()
-    out = [Measured(sc.execute.objects[n].shape, pos[n], world.sizes[n]) for n in world.names]
-    return out, "ground-truth"
+    from perception.camera import default_cameras
+    from perception.frames import Frame
+    from perception.vfd_objects import ObjectFinder
+    from perception.vfd_resources import VisionResources
+
+    finder = ObjectFinder(default_cameras(), VisionResources())
+    frame = Frame(0, world.time, images["top"], images["side"])
+    # Best-fitting first: matching is first come first served, so the surest
+    # measurement of a shape is used first and doubtful extra ones are left over.
+    found = sorted(finder.find(frame, sc.shapes), key=lambda f: f.mismatch)
+    return [Measured(f.shape, tuple(f.position), tuple(f.size)) for f in found], "object-finder"
 
 
 def _model(taught: dict, shapes: dict, matching: Any, measured: list[Measured],

@@ -112,6 +112,7 @@ class CommandRules:
     margin: float
     tip: float
     finger: tuple[float, float, float]
+    jaw_clearance: float
     tip_clearance: float
     max_below_top: float
     release_clearance: float
@@ -195,7 +196,8 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
     cx = _Ctx(file)
     cx.keys(doc, _TOP, "", _REQUIRED)
     frame = _arm_frame(cx, doc["arm_frame"])
-    grip_keys = {"jaw_axis", "margin", "tip", "finger", "tip_clearance", "max_below_top"}
+    grip_keys = {"jaw_axis", "margin", "tip", "finger", "clearance", "tip_clearance",
+                 "max_below_top"}
     cx.keys(doc["gripper"], grip_keys, "gripper", grip_keys)
     jaw = doc["gripper"]["jaw_axis"]
     if jaw not in JAW_AXES:
@@ -216,6 +218,7 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
         margin=cx.number(doc["gripper"], "margin", "gripper.margin"),
         tip=cx.number(doc["gripper"], "tip", "gripper.tip"),
         finger=cx.vector(doc["gripper"], "finger", 3, "gripper.finger"),
+        jaw_clearance=cx.number(doc["gripper"], "clearance", "gripper.clearance"),
         tip_clearance=cx.number(doc["gripper"], "tip_clearance", "gripper.tip_clearance"),
         max_below_top=cx.number(doc["gripper"], "max_below_top", "gripper.max_below_top"),
         release_clearance=(cx.number(doc, "release_clearance", "release_clearance")

@@ -6,7 +6,8 @@ coming down next to an object can knock over a neighbour, so the grip point
 may slide along the object's edge, away from the jaw axis, to the first offset
 whose jaw regions are free. A jaw region spans from the object's side to the
 open finger's outer face, and from the fingertips up to above the approach
-height; the held object and what rides on it are not obstacles.
+height; the held object and what rides on it are not obstacles. A gap of
+``gripper.clearance`` is kept, since positions are measured by the cameras.
 """
 
 from __future__ import annotations
@@ -42,7 +43,9 @@ def blocker(focus: str, centre: Vec, dy: float, rules: CommandRules,
     """The first object a jaw would hit when gripping ``focus`` at ``centre``, if any."""
     moving = {focus, *model.riders(focus)}
     size = model.bodies[focus].size
+    grow = 2 * rules.jaw_clearance
     for c, s in jaw_regions(centre, size, dy, rules):
+        s = (s[0] + grow, s[1] + grow, s[2])  # keep the gap sideways only
         for name, b in model.bodies.items():
             if name not in moving and overlap(c, s, b.position, b.size, tol=0.5):
                 return name
