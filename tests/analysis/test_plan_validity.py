@@ -1,0 +1,83 @@
+"""A validity oracle for generated plans: every ordered dependency is kept by the plots.
+
+For each pair of ACHIEVEs with a B-T or B-S dependency (i before j), their lowest
+common ancestor in the plan must have them in different items of a $sequence,
+i's item first; C-T-only pairs may be in a $parallel. Each ACHIEVE appears once.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from bench.bench_analysis import synthetic_task
+from lbw_engine.analysis import RelationTable, analyze, load_rules, parse_actions
+
+
+def _plan(n):
+    rules = load_rules()
+    return analyze(parse_actions(synthetic_task(n), RelationTable(rules.tolerance)), rules)
+
+
+def _paths(plan):
+    """operator name -> path of (parent, plot-item position path) from the root."""
+    ops, out = plan["operators"], {}
+
+    def walk(name, path):
+        out[name] = path
+        plot = ops[name]["plot"]
+
+        def items(p, where):
+            if p[0] == "$action":
+                if p[1] in ops:
+                    walk(p[1], [*path, (name, where)])
+                return
+            for k, sub in enumerate(p[1:]):
+                items(sub, (*where, (p[0], k)))
+
+        items(plot, ())
+
+    walk(plan["root"], [])
+    return out
+
+
+def _ordered(path_i, path_j):
+    """True if i must come before j in the plan (a $sequence separates them, i first)."""
+    for (op_i, where_i), (op_j, where_j) in zip(path_i, path_j, strict=False):
+        if (op_i, where_i) == (op_j, where_j):
+            continue
+        assert op_i == op_j
+        for (kind_i, k_i), (kind_j, k_j) in zip(where_i, where_j, strict=False):
+            if (kind_i, k_i) != (kind_j, k_j):
+                return kind_i == "$sequence" and k_i < k_j
+        return False
+    return False
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5, 8, 11, 16, 27, 40])
+def test_synthetic_plans_keep_every_dependency(n):
+    result = _plan(n)
+    plan = result.plan
+    achieves = [name for name, op in plan["operators"].items() if op["class"] == "ACHIEVE"]
+    assert len(achieves) == n
+    assert plan["operators"][plan["root"]]["class"] == "BUILD"
+    paths = _paths(plan)
+    assert set(achieves) <= set(paths)
+    ops = sorted(result.achieves, key=lambda o: o.lo)
+    checked = 0
+    for i, a in enumerate(ops):
+        for b in ops[i + 1:]:
+            if a.base & (b.target | b.special):
+                checked += 1
+                assert _ordered(paths[a.name], paths[b.name]), (a.name, b.name)
+    assert checked >= n // 3  # the structures do depend on each other's blocks
+
+
+def test_every_put_keeps_its_goal_with_coordinates():
+    plan = _plan(11).plan
+    for name, op in plan["operators"].items():
+        if op["class"] == "PUT":
+            goals = [r for r in op["sc_plus"] if r[0] in ("on", "on-multiple")]
+            assert len(goals) == 1 and "at" in goals[0][3], name
+            moved = goals[0][1]
+            support = goals[0][2] if isinstance(goals[0][2], list) else [goals[0][2]]
+            assert op["base"] == [moved] and op["target"] == sorted(support), name
