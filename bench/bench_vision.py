@@ -29,9 +29,9 @@ def build_table_scene(k: int, rng: np.random.Generator) -> list[Box]:
               Box("block", (220, 100, 25), (30, 30, 50)),
               Box("block", (150, 220, 5), (120, 100, 10))]
     s = (k % 240) / 240.0
-    x = -200 + 400 * s + rng.normal(0, 1.0)
-    y = 150 + 100 * np.sin(2 * np.pi * s) + rng.normal(0, 1.0)
-    z = 90 + 60 * np.cos(2 * np.pi * s) + rng.normal(0, 1.0)
+    x = float(-200 + 400 * s + rng.normal(0, 1.0))
+    y = float(150 + 100 * np.sin(2 * np.pi * s) + rng.normal(0, 1.0))
+    z = float(90 + 60 * np.cos(2 * np.pi * s) + rng.normal(0, 1.0))
     # The gripper of perception.hand: grip centre (x, y, z), fingertips 10 mm below it.
     hand = [Box("hand", (x, y, z + 55), (50, 50, 30)),
             Box("hand", (x - 35, y, z + 15), (10, 20, 50)),

@@ -54,10 +54,17 @@ def block_shade(normals: np.ndarray) -> np.ndarray:
 
 def box_geometry(scene: Sequence[Box]) -> tuple[np.ndarray, np.ndarray]:
     """World corners [N,8,3] and face normals [N,6,3] of the scene's (tilted) boxes."""
-    n = len(scene)
-    centers = np.array([b.center for b in scene], float).reshape(n, 3)
-    sizes = np.array([b.size for b in scene], float).reshape(n, 3)
-    angles = np.array([b.angle for b in scene], float)
+    rows = np.array([(*b.center, *b.size, b.angle) for b in scene], float).reshape(-1, 7)
+    return _geometry(rows)
+
+
+_AXIS_SHADES = block_shade(_NORMALS).tolist()
+
+
+def _geometry(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Corners and normals from rows (cx, cy, cz, sx, sy, sz, angle)."""
+    n = len(rows)
+    centers, sizes, angles = rows[:, :3], rows[:, 3:6], rows[:, 6]
     local = _UNIT[None, :, :] * sizes[:, None, :]
     if not angles.any():  # the common case: nothing tilted
         return local + centers[:, None, :], np.broadcast_to(_NORMALS, (n, 6, 3))
@@ -178,6 +185,7 @@ class Renderer:
         self._M = np.vstack([c.P[:, :3] for c in self.cameras.values()])
         self._p4 = np.concatenate([c.P[:, 3] for c in self.cameras.values()])
         self._eyes = np.array([c.center for c in self.cameras.values()])
+        self._eyes_l = self._eyes.tolist()
         self._layer = _Layer((), [], self)
 
     def render(self, scene: Sequence[Box]) -> dict[str, np.ndarray]:
@@ -251,38 +259,48 @@ class Renderer:
     def _prepare(self, boxes: list[Box]) -> list[_Drawn]:
         """Project a batch of boxes into every camera and keep their visible faces."""
         n = len(boxes)
-        centers = np.array([b.center for b in boxes], float)
-        corners, normals = box_geometry(boxes)
-        lo, hi = corners.min(axis=1), corners.max(axis=1)
-        if all(b.kind in _FLAT for b in boxes):
-            shades = [[_FLAT[b.kind]] * 6 for b in boxes]
-        else:
-            shades = block_shade(normals).tolist()
-            for i, b in enumerate(boxes):
-                if b.kind in _FLAT:
-                    shades[i] = [_FLAT[b.kind]] * 6
-        halfs = np.repeat(np.array([b.size for b in boxes], float) / 2.0, 2, axis=1)  # [N,6]
+        rows = np.array([(*b.center, *b.size, b.angle) for b in boxes], float)
         names = list(self.cameras)
         eyes = self._eyes  # [C,3]
-        # A face is visible when the eye lies beyond its plane: n . (eye - c) > half-extent.
-        visible = (np.einsum("nfk,cnk->cnf", normals, eyes[:, None, :] - centers[None])
-                   > halfs[None] + 1e-6).tolist()
-        h = corners.reshape(-1, 3) @ self._M.T + self._p4  # [N*8, 3C]
-        h = h.reshape(n, 8, len(names), 3)
-        uv = h[..., :2] / h[..., 2:3]  # [N,8,C,2]
-        quads = np.rint(uv * _ONE).astype(np.int32).transpose(2, 0, 1, 3)[:, :, _FACES]
-        quads = np.ascontiguousarray(quads)  # [C,N,6,4,2]
-        bb = np.concatenate([uv.min(axis=1), uv.max(axis=1)], axis=2).tolist()  # [N,C,4]
-        dist = np.linalg.norm(np.clip(eyes[:, None, :], lo, hi) - eyes[:, None, :],
-                              axis=2).tolist()  # [C,N]
-        out = []
+        tilted = any(b.angle for b in boxes)
+        if tilted:
+            corners, normals = _geometry(rows)
+            lo, hi = corners.min(axis=1), corners.max(axis=1)
+        else:  # axis-aligned: corners straight from centre and half-size
+            half = rows[:, 3:6] * 0.5
+            lo, hi = rows[:, :3] - half, rows[:, :3] + half
+            corners = rows[:, None, :3] + _UNIT[None, :, :] * rows[:, None, 3:6]
         lo_l, hi_l = lo.tolist(), hi.tolist()
+        if tilted:  # visible when the eye lies beyond the face plane: n.(eye - c) > half-size
+            halfs = np.repeat(rows[:, 3:6] / 2.0, 2, axis=1)
+            visible = (np.einsum("nfk,cnk->cnf", normals, eyes[:, None, :] - rows[None, :, :3])
+                       > halfs[None] + 1e-6).tolist()
+            shades = block_shade(normals).tolist()
+        else:  # compare the eye with the box bounds, face by face
+            visible = [[[e[0] < a[0], e[0] > b[0], e[1] < a[1], e[1] > b[1], e[2] < a[2],
+                         e[2] > b[2]] for a, b in zip(lo_l, hi_l, strict=True)]
+                       for e in self._eyes_l]
+            shades = [_AXIS_SHADES] * n
         for i, b in enumerate(boxes):
-            faces = {name: [(quads[c, i, f], shades[i][f]) for f in range(6) if visible[c][i][f]]
-                     for c, name in enumerate(names)}
+            if b.kind in _FLAT:
+                shades[i] = [_FLAT[b.kind]] * 6
+        h = (corners.reshape(-1, 3) @ self._M.T + self._p4).reshape(n, 8, len(names), 3)
+        uv = h[..., :2] / h[..., 2:3]  # [N,8,C,2]
+        quads = np.ascontiguousarray(
+            np.rint(uv * _ONE).astype(np.int32).transpose(2, 0, 1, 3)[:, :, _FACES])
+        uv_lo, uv_hi = uv.min(axis=1).tolist(), uv.max(axis=1).tolist()  # [N,C,2]
+        near = np.clip(eyes[:, None, :], lo, hi) - eyes[:, None, :]
+        dist = np.sqrt((near * near).sum(axis=2)).tolist()  # [C,N]
+        out = []
+        for i, b in enumerate(boxes):
+            faces = {}
+            for c, name in enumerate(names):
+                vis = visible[c][i]
+                faces[name] = [(q, g) for q, g, v in zip(quads[c, i], shades[i], vis, strict=True)
+                               if v]
             creases = ({name: [q for q, _ in faces[name]] for name in names}
                        if b.kind == "block" else None)
             out.append(_Drawn(b.kind, tuple(lo_l[i]), tuple(hi_l[i]), faces, creases,
-                              {name: bb[i][c] for c, name in enumerate(names)},
+                              {name: uv_lo[i][c] + uv_hi[i][c] for c, name in enumerate(names)},
                               {name: dist[c][i] for c, name in enumerate(names)}))
         return out
