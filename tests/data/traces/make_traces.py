@@ -36,6 +36,7 @@ class Trace:
         self.t += dt
 
     def hand_at(self, xy, z) -> list[float]:
+        """A hand position above ``xy``."""
         return [round(xy[0], 1), round(xy[1], 1), z]
 
     def enter(self) -> None:
@@ -61,14 +62,17 @@ class Trace:
         if end == "far":
             self.rec(event="far", positions={"hand": self.hand_at(at, 150.0)})
         else:
-            self.rec(event="found-moving", found=["hand"], positions={"hand": [167.5, 153.2, 125.2]})
+            hand = [167.5, 153.2, 125.2]  # Fig. 21's final hand position
+            self.rec(event="found-moving", found=["hand"], positions={"hand": hand})
         self.rec(detector="change-detector", value=diff, at=[round(c, 1) for c in at])
 
     def pick(self, name: str) -> None:
+        """Reach down to ``name`` and take it."""
         self.descend(self.pos[name][:2])
         self.local([name], "decreased", self.pos[name])
 
     def place(self, name: str, supports, xy, end: str = "far") -> None:
+        """Put the held ``name`` on ``supports`` at ``xy``; the change is measured 4 mm low."""
         self.descend(xy)
         top = max(self.pos[s][2] + self.size[s][2] / 2 if s != "table" else 0.0 for s in supports)
         measured = [xy[0], xy[1], top + self.size[name][2] / 2 - 4.0]  # measured a little low
@@ -76,19 +80,23 @@ class Trace:
         self.local(supports, "increased", measured, end)
 
     def touch(self, name: str) -> None:
+        """Come down to ``name``, stay, and leave it where it is (NO-OP)."""
         self.descend(self.pos[name][:2], value="staying")
         self.local([name], "no-change", self.pos[name])
 
     def leave(self) -> None:
+        """The hand leaves the view."""
         self.tick()
         self.rec(event="disappeared")
 
     def write(self, path: Path) -> None:
+        """Write the trace as JSON Lines."""
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text("".join(json.dumps(line) + "\n" for line in self.lines))
 
 
 def obj(shape: str, size, xy) -> dict:
+    """An object standing on the table at ``xy``."""
     return {"shape": shape, "size": list(size), "position": [xy[0], xy[1], size[2] / 2]}
 
 
