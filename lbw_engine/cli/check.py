@@ -1,9 +1,14 @@
-"""``lbw check [RULES_DIR]``: validate the rule files."""
+"""``lbw check [RULES_DIR]``: validate every rule file, alone and against each other."""
 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
+from ..analysis import load_rules as load_analysis_rules
+from ..analysis import load_templates
+from ..errors import InputError
+from ..execution import commandrules
 from ..rules import RULE_FILES, load_rules
 
 HELP = "validate rule files (exit 2 with file:line on the first problem)"
@@ -14,13 +19,46 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("rules_dir", nargs="?", metavar="RULES_DIR", help="folder of rule files")
 
 
+def _line_naming(path: Path, word: str) -> int | None:
+    """First line of ``path`` that mentions ``word`` (for a cross-file message)."""
+    try:
+        for number, text in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if word in text and not text.lstrip().startswith(("#", "//")):
+                return number
+    except OSError:
+        return None
+    return None
+
+
+def cross_check(operations: set[str], template_words: set[str], command_ops: set[str],
+                template_file: Path, command_file: Path) -> None:
+    """Operations named by the templates (Fig. 15) and the command expansions
+    (Table IX) must be operations the recognizer's rules (Table V) define."""
+    for words, path, what in (
+        (template_words, template_file, "template"),
+        (command_ops, command_file, "command expansion"),
+    ):
+        for word in sorted(words - operations):
+            raise InputError(
+                f"the {what} names operation {word!r}, which the recognizer's operations.yaml "
+                f"does not define (known: {', '.join(sorted(operations))})",
+                file=path, line=_line_naming(path, word))
+
+
 def run(args: argparse.Namespace) -> int:
-    """Load every rule file; InputError (exit 2) names the file and line of a problem."""
+    """Load every rule file and cross-check them; InputError (exit 2) names file and line."""
     rules = load_rules(args.rules_dir)
+    analysis = load_analysis_rules(rules.directory)
+    templates = load_templates(analysis)
+    commands = commandrules.load_dir(rules.directory)
+    words = {t.pattern.value for t in templates.parser.terminals if t.pattern.type == "str"}
+    cross_check(rules.operations, words, set(commands.operations),
+                templates.file, Path(commands.file))
     print(
-        f"lbw check: {rules.directory}: {len(RULE_FILES)} rule files OK "
+        f"lbw check: {rules.directory}: {len(RULE_FILES) + 3} rule files OK "
         f"({len(rules.events)} events, {len(rules.motions)} motion classes, "
         f"{len(rules.operations)} operations, {len(rules.transitions)} transitions, "
-        f"{sum(len(r) for r in rules.redirections.values())} redirections)"
+        f"{sum(len(r) for r in rules.redirections.values())} redirections, "
+        f"{len(templates.parser.rules)} template rules, {len(commands.macros)} command macros)"
     )
     return 0
