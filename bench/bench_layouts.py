@@ -1,0 +1,134 @@
+"""Issue #6 sweep: one learned plan, executed in many random execution layouts.
+
+For build-table and inverted-arch the plan is learned once by watching the
+bundled demonstration (`lbw run`'s pipeline), then executed in N seeded random
+execution workspaces (the same objects scattered elsewhere on the table, clear
+of where the taught structure stands). Reports the success rate and every
+failure. Run: ``python -m bench layouts`` (or ``python bench/bench_layouts.py
+--count 20``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import random
+import time
+from typing import Any
+
+import yaml
+
+from lbw_engine.execution import commandrules
+from lbw_engine.execution import plan as planmod
+from lbw_engine.paths import bundled_scenario, default_rules_dir
+from lbw_engine.yamlio import load_file
+
+SCENARIOS = ("build-table", "inverted-arch")
+GAP = 40.0  # mm kept free between boxes, so the gripper's jaws fit beside each
+TABLE = ((-300.0, 300.0), (0.0, 400.0))
+
+
+def _plain(value: Any) -> Any:
+    """LocDict/LocList -> dict/list, so the document can be dumped again."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_plain(v) for v in value]
+    return value
+
+
+def _clear(center: tuple[float, float], size: tuple[float, float],
+           placed: list[tuple[tuple[float, float], tuple[float, float]]]) -> bool:
+    """True if a box at ``center`` keeps GAP from every box in ``placed``."""
+    return all(abs(center[0] - c[0]) * 2 >= size[0] + s[0] + 2 * GAP
+               or abs(center[1] - c[1]) * 2 >= size[1] + s[1] + 2 * GAP
+               for c, s in placed)
+
+
+def random_layout(scenario: Any, seed: int) -> dict[str, dict[str, Any]]:
+    """Execution objects of ``scenario`` scattered at random, clear of the final structure."""
+    rng = random.Random(seed)
+    final = scenario.states[-1]
+    keep_out = [((c[0], c[1]), (final.size[n][0], final.size[n][1]))
+                for n, c in final.center.items() if final.support.get(n) != ("table",)
+                or any(n in s for s in final.support.values())]
+    objects = (scenario.execute or scenario.teach).objects
+    layout: dict[str, dict[str, Any]] = {}
+    placed = list(keep_out)
+    for name, spec in sorted(objects.items(), key=lambda kv: -kv[1].size[0] * kv[1].size[1]):
+        sx, sy = spec.size[0], spec.size[1]
+        for _ in range(2000):
+            x = rng.uniform(TABLE[0][0] + sx / 2 + 5, TABLE[0][1] - sx / 2 - 5)
+            y = rng.uniform(TABLE[1][0] + sy / 2 + 5, TABLE[1][1] - sy / 2 - 5)
+            if _clear((x, y), (sx, sy), placed):
+                break
+        else:
+            raise RuntimeError(f"no room for {name} in layout seed {seed}")
+        placed.append(((x, y), (sx, sy)))
+        layout[name] = {"shape": spec.shape, "at": [round(x, 1), round(y, 1)]}
+    return layout
+
+
+def with_layout(path: Any, layout: dict[str, dict[str, Any]], seed: int) -> Any:
+    """The scenario at ``path`` with ``layout`` as its execute workspace."""
+    from perception.scenario import load_text
+
+    doc = _plain(load_file(path))
+    doc["execute"] = {"objects": layout}
+    doc["seed"] = seed
+    return load_text(yaml.safe_dump(doc, sort_keys=False), f"{path}#layout-{seed}")
+
+
+def sweep(name: str, count: int, first_seed: int = 1) -> dict[str, Any]:
+    """Learn ``name``'s plan by watching, then execute it in ``count`` random layouts."""
+    from lbw_engine.cli.execute import execute_plan
+    from lbw_engine.cli.run import pipeline
+    from perception.scenario import load
+
+    path = bundled_scenario(name)
+    learned = pipeline(load(path))
+    if learned.plan is None:
+        return {"scenario": name, "learned": False, "failure": learned.failure}
+    plan = planmod.parse(learned.plan, file="plan.json")
+    crules = commandrules.load_dir(default_rules_dir())
+    scenario = load(path)
+    failures, commands, seconds = [], [], []
+    for seed in range(first_seed, first_seed + count):
+        sc = with_layout(path, random_layout(scenario, seed), seed)
+        clock = time.perf_counter()
+        result = execute_plan(plan, sc, crules)
+        seconds.append(time.perf_counter() - clock)
+        commands.append(result.report.get("commands", 0))
+        if not result.success:
+            failures.append({"seed": seed, "message": result.message})
+    ok = count - len(failures)
+    return {"scenario": name, "learned": True, "layouts": count, "succeeded": ok,
+            "success_rate": ok / count, "commands": sorted(set(commands)),
+            "seconds_per_execution": round(sum(seconds) / len(seconds), 2),
+            "failures": failures}
+
+
+def main(argv: list[str]) -> dict[str, Any]:
+    """Run the sweep for every scenario and print one line each."""
+    parser = argparse.ArgumentParser(prog="bench layouts")
+    parser.add_argument("--count", type=int, default=20)
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args(argv)
+    figures = {}
+    print(f"{'scenario':<15}{'layouts':>8}{'verified':>9}{'commands':>10}{'s/run':>7}")
+    for name in SCENARIOS:
+        fig = sweep(name, args.count, args.seed)
+        figures[name] = fig
+        if not fig["learned"]:
+            print(f"{name:<15} plan not learned: {fig['failure']}")
+            continue
+        print(f"{name:<15}{fig['layouts']:>8}{fig['succeeded']:>9}"
+              f"{','.join(map(str, fig['commands'])):>10}{fig['seconds_per_execution']:>7}")
+        for f in fig["failures"]:
+            print(f"   seed {f['seed']}: {f['message']}")
+    return figures
+
+
+if __name__ == "__main__":
+    import sys
+
+    main(sys.argv[1:])
