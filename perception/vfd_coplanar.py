@@ -20,6 +20,7 @@ from .vfd import DARK_MAX, VFD, Region3D
 FACES = {"north": (1, +1), "south": (1, -1), "east": (0, +1), "west": (0, -1)}
 TOLERANCE_MM = 5.0  # about 1.5 top-view pixels: edges are quantized to whole pixels
 MARGIN_MM = 25.0  # how far beyond the faces the local window reaches
+REACH_MM = 15.0  # a free face's outline must end within this distance past the model face
 
 
 class CoplanarDetector(VFD):
@@ -51,38 +52,54 @@ class CoplanarDetector(VFD):
         self._found = abs(self.step_mm) <= TOLERANCE_MM
         return self._found
 
+    def coplanar_faces(self, frame: Frame, a: Region3D, b: Region3D) -> list[str]:
+        """The faces (of north/south/east/west) that ``a`` and ``b`` have coplanar."""
+        return [face for face in FACES if self.check(frame, a, b, face)]
+
     def _edge(self, mask: np.ndarray, w, box: Region3D, axis: int, sign: int) -> float | None:
-        """World coordinate (along ``axis``) of the box's outer edge on the ``sign`` side."""
+        """World coordinate (along ``axis``) of the box's free outer edge on the ``sign`` side.
+
+        Each scan line runs from the box centre outwards; the edge is where the
+        silhouette first ends. If it does not end within REACH_MM past the face,
+        something touches that face and the face cannot be measured (None).
+        """
         cam = self.cameras["top"]
-        # The strip of image lines that cross this box only (its middle half across the face).
         other = 1 - axis
-        span = box.size[other] / 4.0
-        c = box.center
-        p0, p1 = c.copy(), c.copy()
-        p0[other] -= span
-        p1[other] += span
-        p0[2] = p1[2] = box.hi[2]
-        (u0, v0), (u1, v1) = cam.project(np.array([p0, p1]))
-        if axis == 1:  # north/south: the edge is a row; scan the columns of this box
-            cols = slice(int(round(min(u0, u1))) - w.x0, int(round(max(u0, u1))) - w.x0 + 1)
-            lines = mask[:, cols].T
-        else:  # east/west: the edge is a column; scan the rows of this box
-            rows = slice(int(round(min(v0, v1))) - w.y0, int(round(max(v0, v1))) + 1 - w.y0)
-            lines = mask[rows, :]
-        if lines.size == 0 or not lines.any():
+        c = box.center.copy()
+        c[2] = box.hi[2]
+        span = box.size[other] / 4.0  # the middle half of the face: clear of corners
+        ends = []
+        for off in (-span, span):
+            p = c.copy()
+            p[other] += off
+            q = p.copy()
+            q[axis] = (box.hi[axis] if sign > 0 else box.lo[axis]) + sign * REACH_MM
+            ends.append(cam.project(np.array([p, q])))
+        (p0, q0), (p1, q1) = ends
+        # Image axis of the scan: x for east/west, y for north/south (top view).
+        k = 0 if axis == 0 else 1
+        start = int(round((p0[k] + p1[k]) / 2.0)) - (w.x0 if k == 0 else w.y0)
+        stop = int(round((q0[k] + q1[k]) / 2.0)) - (w.x0 if k == 0 else w.y0)
+        step = 1 if stop > start else -1
+        across = sorted([p0[1 - k], p1[1 - k]])
+        lo_line = int(round(across[0])) - (w.y0 if k == 0 else w.x0)
+        hi_line = int(round(across[1])) - (w.y0 if k == 0 else w.x0)
+        lines = mask[lo_line:hi_line + 1, :] if k == 0 else mask[:, lo_line:hi_line + 1].T
+        hits = []
+        for line in lines:
+            run = line[start:stop + step:step] if stop + step >= 0 else line[start::step]
+            gaps = np.nonzero(~run)[0]
+            if len(gaps) == 0 or gaps[0] == 0:
+                continue
+            hits.append(start + step * (gaps[0] - 1))
+        if len(hits) < max(1, len(lines) // 2):
             return None
-        idx = np.arange(lines.shape[1])
-        # +y is up in the top image (smaller rows), +x is right (larger columns).
-        outward = (sign > 0) if axis == 0 else (sign < 0)
-        hits = [(idx[line].max() if outward else idx[line].min()) for line in lines if line.any()]
-        pix = float(np.median(hits)) + (0.5 if outward else -0.5)  # outer pixel boundary
-        # The outer silhouette edge is the face's top edge unless the face itself is seen.
+        pix = float(np.median(hits)) + 0.5 * step  # outer boundary (pixel centres at integers)
         face_pos = box.hi[axis] if sign > 0 else box.lo[axis]
         seen = (cam.center[axis] - face_pos) * sign > 0
-        z = box.lo[2] if seen else box.hi[2]
-        uv = [0.0, 0.0]
-        if axis == 1:
-            uv = [(u0 + u1) / 2.0, w.y0 + pix]
+        z = box.lo[2] if seen else box.hi[2]  # the outline is the face's bottom edge if seen
+        if k == 0:
+            uv = [w.x0 + pix, (p0[1] + p1[1]) / 2.0]
         else:
-            uv = [w.x0 + pix, (v0 + v1) / 2.0]
+            uv = [(p0[0] + p1[0]) / 2.0, w.y0 + pix]
         return float(cam.point_on_plane_z(uv, z)[axis])

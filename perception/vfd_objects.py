@@ -48,13 +48,23 @@ class ObjectFinder(VFD):
         (w, h) = self.cameras["side"].size
         side_win = self.resources.allocate("side", (0, 0, w, h))
         try:
-            side = side_win.read(frame.side) >= TOP_MIN
+            side_img = side_win.read(frame.side)
         finally:
             self.resources.free(side_win)
+        # Side-view top faces, each grown by a pixel (the crease on its outline is its own).
+        n, labels, stats, _ = cv2.connectedComponentsWithStats(
+            (side_img >= TOP_MIN).astype(np.uint8), connectivity=4)
+        labels = cv2.dilate(labels.astype(np.float32), np.ones((3, 3), np.uint8)).astype(np.int32)
+        areas = np.bincount(labels.ravel(), minlength=n)
+        solid = side_img > DARK_MAX
+        m, blobs, _, _ = cv2.connectedComponentsWithStats(solid.astype(np.uint8), connectivity=8)
+        blob_areas = np.bincount(blobs.ravel(), minlength=m)
         boxes = []
-        for rect, pts in faces:
-            height, score = self._height(pts, side)
-            if score < 0.3:
+        for rect in faces:
+            height, score = self._height(rect, labels, areas, solid)
+            if score < 0.25:  # the top face is too thin to see from the side
+                height, score = self._height_from_silhouette(rect, blobs, blob_areas)
+            if score < 0.25:
                 continue
             boxes.append((height, self._footprint(rect, height)))
         found = []
@@ -71,8 +81,8 @@ class ObjectFinder(VFD):
         self._target = np.array([f.position for f in found]) if found else None
         return found
 
-    def _top_faces(self, top: np.ndarray) -> list[tuple[tuple, np.ndarray]]:
-        """Top faces in the top view: pixel rectangle (x0, y0, x1, y1) and pixel centres."""
+    def _top_faces(self, top: np.ndarray) -> list[tuple[float, float, float, float]]:
+        """Top faces in the top view: their pixel rectangles (x0, y0, x1, y1)."""
         w, h = self.cameras["top"].size
         coarse_win = self.resources.allocate("top", (0, 0, w, h), step=COARSE)
         try:
@@ -90,17 +100,16 @@ class ObjectFinder(VFD):
                 face = (fine.read(top) >= TOP_MIN).astype(np.uint8)
             finally:
                 self.resources.free(fine)
-            m, labels, fst, _ = cv2.connectedComponentsWithStats(face, connectivity=4)
+            m, _, fst, _ = cv2.connectedComponentsWithStats(face, connectivity=4)
             for j in range(1, m):
                 fx, fy, fw, fh, area = fst[j]
                 if area >= MIN_FACE_PX:
-                    # The crease line drawn on the face outline hides half a pixel per side.
-                    rect = (fine.x0 + fx - 0.5, fine.y0 + fy - 0.5,
-                            fine.x0 + fx + fw + 0.5, fine.y0 + fy + fh + 0.5)
-                    ys, xs = np.nonzero(labels == j)
-                    pick = slice(None, None, max(1, len(xs) // 400))
-                    pts = np.stack([xs[pick] + fine.x0 + 0.5, ys[pick] + fine.y0 + 0.5], axis=1)
-                    rects.append((rect, pts))
+                    # Pixel centres are at integer coordinates. The crease line is drawn
+                    # on the face outline, so the edge runs through the crease pixels
+                    # just outside the bright face.
+                    rect = (fine.x0 + fx - 1.0, fine.y0 + fy - 1.0,
+                            fine.x0 + fx + fw, fine.y0 + fy + fh)
+                    rects.append(rect)
         return rects
 
     def _footprint(self, rect, height: float) -> tuple[float, float, float, float]:
@@ -111,25 +120,91 @@ class ObjectFinder(VFD):
         return (float(pts[:, 0].min()), float(pts[:, 1].min()),
                 float(pts[:, 0].max()), float(pts[:, 1].max()))
 
-    def _height(self, pts: np.ndarray, side: np.ndarray) -> tuple[float, float]:
-        """Height of a top face: where its pixels, lifted to height h, hit side top faces."""
-        top, cam = self.cameras["top"], self.cameras["side"]
-        dirs = (top._M_inv @ np.column_stack([pts, np.ones(len(pts))]).T).T  # view lines
-        o = top.center
-        hgt, wid = side.shape
+    def _height(self, rect, labels: np.ndarray, areas: np.ndarray, solid: np.ndarray
+                ) -> tuple[float, float]:
+        """Height of a top face: the stereo correspondence with a side-view top face.
+
+        Lifted to the right height h, the face's footprint projects onto one
+        side-view top-face region and covers it (high intersection over union);
+        lifted elsewhere it falls on a front face, on the background, or on a
+        part of some larger face. The column under the footprint down to the
+        table must also look solid in the side view (the face is supported).
+        """
+        cam = self.cameras["side"]
 
         def score(h: float) -> float:
-            world = o + dirs * ((h - o[2]) / dirs[:, 2])[:, None]
-            uv = np.floor(cam.project(world)).astype(int)
-            ok = (uv[:, 0] >= 0) & (uv[:, 0] < wid) & (uv[:, 1] >= 0) & (uv[:, 1] < hgt)
-            return float(side[uv[ok, 1], uv[ok, 0]].sum()) / len(pts)
+            x0, y0, x1, y1 = self._footprint(rect, h)
+            quad = np.array([[x0, y0, h], [x1, y0, h], [x1, y1, h], [x0, y1, h]])
+            uv = cam.project(quad)
+            ox, oy = np.floor(uv.min(axis=0)).astype(int) - 1
+            ex, ey = np.ceil(uv.max(axis=0)).astype(int) + 2
+            if ox < 0 or oy < 0 or ex > labels.shape[1] or ey > labels.shape[0]:
+                return 0.0
+            mask = np.zeros((ey - oy, ex - ox), np.uint8)
+            cv2.fillConvexPoly(mask, np.rint((uv - (ox, oy)) * 16).astype(np.int32), 1,
+                               cv2.LINE_8, 4)
+            under = labels[oy:ey, ox:ex][mask > 0]
+            counts = np.bincount(under, minlength=2)
+            counts[0] = 0
+            best = int(counts.argmax())
+            if counts[best] == 0:
+                return 0.0
+            iou = counts[best] / float(len(under) + areas[best] - counts[best])
+            return iou * self._solid_fraction(rect, h, solid)
 
         coarse = [(score(h), h) for h in np.arange(1.0, 300.0, 2.0)]
         best, h0 = max(coarse)
         fine = [(score(h), h) for h in np.arange(h0 - 2.0, h0 + 2.01, 0.25)]
         top_score = max(fine)[0]
-        hits = [h for s, h in fine if s >= top_score - 1e-9]
+        hits = [h for sc, h in fine if sc >= top_score - 1e-9]
         return float(np.mean(hits)), max(best, top_score)
+
+    def _height_from_silhouette(self, rect, blobs: np.ndarray, areas: np.ndarray
+                                ) -> tuple[float, float]:
+        """Height whose box [footprint] x [0, h] best covers a side-view silhouette (IoU)."""
+
+        def score(h: float) -> float:
+            hull = self._column_hull(rect, h, blobs.shape)
+            if hull is None:
+                return 0.0
+            (ox, oy), mask = hull
+            under = blobs[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][mask > 0]
+            counts = np.bincount(under, minlength=2)
+            counts[0] = 0
+            best = int(counts.argmax())
+            return counts[best] / float(len(under) + areas[best] - counts[best])
+
+        coarse = [(score(h), h) for h in np.arange(1.0, 300.0, 2.0)]
+        best, h0 = max(coarse)
+        fine = [(score(h), h) for h in np.arange(h0 - 2.0, h0 + 2.01, 0.25)]
+        top_score = max(fine)[0]
+        hits = [h for sc, h in fine if sc >= top_score - 1e-9]
+        return float(np.mean(hits)), max(best, top_score)
+
+    def _column_hull(self, rect, h: float, shape) -> tuple[tuple[int, int], np.ndarray] | None:
+        """Side-view mask (origin, mask) of the box [footprint at h] x [0, h], if in view."""
+        x0, y0, x1, y1 = self._footprint(rect, h)
+        corners = np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1) for z in (0.0, h)])
+        uv = self.cameras["side"].project(corners)
+        ox, oy = np.floor(uv.min(axis=0)).astype(int)
+        ex, ey = np.ceil(uv.max(axis=0)).astype(int) + 1
+        if ox < 0 or oy < 0 or ex > shape[1] or ey > shape[0]:
+            return None
+        hull = cv2.convexHull(np.rint((uv - (ox, oy)) * 16).astype(np.int32))
+        mask = np.zeros((ey - oy, ex - ox), np.uint8)
+        cv2.fillConvexPoly(mask, hull, 1, cv2.LINE_8, 4)
+        return (ox, oy), mask
+
+    def _solid_fraction(self, rect, h: float, solid: np.ndarray) -> float:
+        """Fraction of the side-view image of the column [footprint] x [0, h] not dark."""
+        hull = self._column_hull(rect, h, solid.shape)
+        if hull is None:
+            return 0.0
+        (ox, oy), mask = hull
+        inside = mask > 0
+        n = int(inside.sum())
+        return float(solid[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][inside].sum()) / n \
+            if n else 0.0
 
 
 def _nearest(shapes: Mapping[str, Sequence[float]], size: np.ndarray) -> tuple[str, float]:

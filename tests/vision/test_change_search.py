@@ -97,3 +97,18 @@ def test_visual_search_gives_up_over_the_bare_table_within_the_cycle_limit():
     assert not r.found and r.cycles == 4 and len(r.regions) == 5
     low = visual_search(SilFinder(CAMS, res), frame, (T[0], T[1], 60))
     assert not low.found and low.cycles == 1  # the table is one step away
+
+
+def test_snapshots_are_values_that_can_be_judged_later():
+    start, end = _pick()
+    film, res = Film(), VisionResources()
+    cd = ChangeDetector(CAMS, res)
+    cd.attention(Region3D.around((T[0], T[1], 25), (35, 35, 55)))
+    first = cd.take(film.shoot(OTHERS + start))
+    last = cd.take(film.shoot(OTHERS + end))
+    assert cd.judge(first, last) == "disappeared"
+    assert cd.judge(last, first) == "appeared"
+    assert cd.judge(first, first) == "nochange"
+    cd.attention(Region3D.around((0, 100, 25), (35, 35, 55)))
+    with pytest.raises(ValueError):
+        cd.judge(first, cd.take(film.shoot(OTHERS)))

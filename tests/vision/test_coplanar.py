@@ -49,3 +49,11 @@ def test_east_faces_of_blocks_stacked_along_y():
     det = CoplanarDetector(CAMS, VisionResources())
     assert det.check(Film().shoot([a, b]), _region(a), _region(b), "east")
     assert not det.check(Film().shoot([a, c]), _region(a), _region(c), "east")
+
+
+def test_coplanar_faces_lists_the_aligned_sides():
+    a, b = _pair(-100, 250, 0)
+    det = CoplanarDetector(CAMS, VisionResources())
+    assert det.coplanar_faces(Film().shoot([a, b]), _region(a), _region(b)) == ["north", "south"]
+    a, b = _pair(-100, 250, 10)
+    assert det.coplanar_faces(Film().shoot([a, b]), _region(a), _region(b)) == []
