@@ -1,0 +1,66 @@
+"""``lbw watch SCENARIO --out DIR [--rules DIR]``: recognize a demonstration from images.
+
+The world side (demonstrator and renderer, ``perception.stream``) produces
+frames one at a time; the recognizer (``perception.envnodes.watch_frames``)
+receives only that frame iterator, the camera models, the shape database and
+the teach names as a naming hint (docs/seeing.md). Writes ``actions.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..actions import to_actions
+from ..errors import InputError
+from ..outputs import OutputDir
+from ..rules import load_rules
+
+HELP = "watch a scenario's demonstration through the two cameras; writes actions.json"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """SCENARIO, --out, --rules and --fps."""
+    parser.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
+    parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
+    parser.add_argument("--fps", type=float, default=30.0, help="frames per second (30)")
+
+
+def watch(scenario, rules, fps: float = 30.0, pixel_noise: float | None = None):
+    """Simulate, render and recognize online; returns (recognizer, eyes)."""
+    from perception.camera import default_cameras
+    from perception.envnodes import watch_frames
+    from perception.stream import demonstration_frames, teach_names
+
+    cameras = default_cameras()
+    frames = demonstration_frames(scenario, cameras, fps=fps, pixel_noise=pixel_noise)
+    return watch_frames(frames, cameras, scenario.shapes, rules, teach_names(scenario))
+
+
+def run(args: argparse.Namespace) -> int:
+    """Watch the demonstration and publish actions.json; exit 1 if recognition failed."""
+    from perception.scenario import load
+
+    if args.fps <= 0:
+        raise InputError("--fps must be positive", where="arguments")
+    rules = load_rules(args.rules)
+    scenario = load(Path(args.scenario))
+    recognizer, _ = watch(scenario, rules, fps=args.fps)
+    actions = to_actions(recognizer)
+    with OutputDir(args.out) as out:
+        path = out.write_json("actions.json", actions)
+    ops = [op["operation"] for op in actions["operations"]]
+    print(f"lbw watch: {len(actions['objects'])} objects, {len(ops)} operations -> {path}")
+    problems = []
+    if not actions["objects"]:
+        problems.append("no objects were located")
+    if not ops:
+        problems.append("no operations were recognized")
+    elif any(op is None for op in ops):
+        problems.append("some motions could not be classified")
+    if problems:
+        print(f"lbw watch: recognition failed: {'; '.join(problems)}", file=sys.stderr)
+        return 1
+    return 0

@@ -1,0 +1,235 @@
+"""ENV-node helpers for the region VFDs: guided search, change and coplanarity (Sec. III-D, E).
+
+Each node turns the engine's view of an ACT-node and the environment model
+into 3-D regions for a VFD (docs/vision.md) and its result into a Detection.
+Regions come from the env model (measured boxes) and the tracked hand; pixels
+only from the current frame through the VFD's windows.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from lbw_engine.detectors import ActView, Detection
+from lbw_engine.envmodel import TABLE, EnvModel, EnvNode
+
+from .vfd import Region3D
+from .vfd_change import APPEARED, DISAPPEARED, NO_CHANGE, ChangeDetector
+from .vfd_coplanar import CoplanarDetector
+from .vfd_search import SilFinder
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .envnodes import Eyes
+
+TOP_TOLERANCE_MM = 15.0  # confirmed targets: tops within this of the highest one (a support set)
+SUPPORT_TOLERANCE_MM = 8.0  # the held block's centre may lie this far off its supports' boxes
+PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, align slide)
+PICK_MARGIN_MM = 8.0
+CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for CoplDet)
+
+# The change-detector's results, named as the rules' SilDiff values (rules/analysis.yaml).
+SIL_DIFF = {DISAPPEARED: "decreased", APPEARED: "increased", NO_CHANGE: "no-change"}
+COPL_DET = {1: "positive", -1: "negative", 0: "unchanged"}
+
+
+def box(node: EnvNode, center: Sequence[float] | None = None) -> Region3D:
+    """The region of an env node's measured box (optionally moved to ``center``)."""
+    return Region3D.around(center if center is not None else node.position, node.size)
+
+
+def held_box(eyes: Eyes, env: EnvModel) -> tuple[EnvNode, Region3D] | None:
+    """The held object and its box, hanging where the grasp put it under the tracked hand."""
+    held = [env.nodes[n] for n in env.held() if n in env.nodes]
+    if not held or eyes.hand is None or held[0].size is None:
+        return None
+    return held[0], box(held[0], eyes.hand + eyes.grip)
+
+
+class SearchNode:
+    """:Near through the sil-finder: stepped regions below the hand (Sec. III-E, Fig. 6)."""
+
+    def __init__(self, eyes: Eyes) -> None:
+        """A sil-finder on the shared windows."""
+        self.eyes = eyes
+        self.finder = SilFinder(eyes.cameras, eyes.resources)
+        self.limit = int(eyes.rules.constants["search-cycle-limit"])
+        self.default = tuple(float(v) for v in eyes.rules.constants["attention-region"])
+        self.last: Region3D | None = None
+
+    def regions(self, env: EnvModel) -> tuple[list[Region3D], set[str]]:
+        """The search regions, top to bottom, and the names never to report (held, riders)."""
+        eyes = self.eyes
+        held = held_box(eyes, env)
+        if held is None:
+            start = Region3D.around(eyes.hand, self.default)
+            skip: set[str] = set()
+            first = 0
+        else:
+            node, start = held
+            skip = {node.name, *env.supported_by(node.name)}
+            first = 1  # the held object itself is not a target
+        # Footnote 8 steps by the region's height; a thin held plate would then reach only a
+        # few cm, so a step is at least the empty hand's region height (docs/seeing.md).
+        step = max(float(start.size[2]), self.default[2])
+        lo = float(start.lo[2])
+        cycles = min(max(0, math.ceil(lo / step)), self.limit)
+        out = []
+        for k in range(first, cycles + 1):
+            top = lo - (k - 1) * step if k else float(start.hi[2])
+            out.append(Region3D((start.lo[0], start.lo[1], top - step if k else lo),
+                                (start.hi[0], start.hi[1], top)))
+        return out, skip
+
+    def near(self, env: EnvModel) -> tuple[str, ...]:
+        """Names of the confirmed targets below the hand, () when none yet."""
+        if self.eyes.hand is None:
+            return ()
+        regions, skip = self.regions(env)
+        held = held_box(self.eyes, env)
+        for region in regions:
+            self.finder.attention(region)
+            if self.finder.look(self.eyes.frame) is not None:
+                names = self.confirm(region, env, skip, held[1] if held else None)
+                if names:
+                    self.last = region
+                    return names
+            if held is not None and region.lo[2] <= 0.0:
+                self.last = region  # reached the table with no block below: the table
+                return (TABLE,)
+        return ()
+
+    def confirm(self, region: Region3D, env: EnvModel, skip: set[str],
+                held: Region3D | None) -> tuple[str, ...]:
+        """Loc nodes the found region meets (Sec. III-E step 3); the topmost set only.
+
+        With an object in the hand, blocks count as its supports only if its centre is
+        over them (their joint footprint): a block beside the spot is not under it.
+        """
+        hits = [n for n in env.nodes_intersecting(region.center, region.size)
+                if n.name not in skip]
+        if not hits:
+            return ()
+        top = max(n.top() for n in hits)
+        hits = [n for n in hits if n.top() >= top - TOP_TOLERANCE_MM]
+        if held is not None:
+            lo = np.min([box(n).lo for n in hits], axis=0)[:2] - SUPPORT_TOLERANCE_MM
+            hi = np.max([box(n).hi for n in hits], axis=0)[:2] + SUPPORT_TOLERANCE_MM
+            if not (np.all(held.center[:2] >= lo) and np.all(held.center[:2] <= hi)):
+                return ()
+        return tuple(n.name for n in hits)
+
+
+class ChangeNode:
+    """SilDiff: change-detector snapshots of a LocalMotion's target region (Sec. III-D1)."""
+
+    def __init__(self, eyes: Eyes) -> None:
+        """A change-detector on the shared windows."""
+        self.eyes = eyes
+        self.detector = ChangeDetector(eyes.cameras, eyes.resources)
+
+    def region(self, act: ActView, env: EnvModel) -> tuple[Region3D, tuple[float, ...]] | None:
+        """Snapshot region (Fig. 6(3)) and the expected object box size."""
+        eyes = self.eyes
+        targets = [n for n in env.get(act.target) if n.position is not None]
+        held = held_box(eyes, env)
+        if held is not None and act.special:
+            node, hb = held
+            tops = [n.top() for n in targets] or [0.0]
+            c = hb.center
+            h = float(node.size[2])
+            m = PLACE_MARGIN_MM
+            return (Region3D.around((c[0], c[1], max(tops) + h / 2.0),
+                                    (node.size[0] + 2 * m, node.size[1] + 2 * m, h)),
+                    node.size)
+        locs = [n for n in targets if n.kind == "Loc" and n.size is not None]
+        if not locs:
+            return None
+        lo = np.min([np.asarray(box(n).lo) for n in locs], axis=0) - PICK_MARGIN_MM
+        hi = np.max([np.asarray(box(n).hi) for n in locs], axis=0) + PICK_MARGIN_MM
+        lo[2] = max(lo[2], 0.5)
+        return Region3D(tuple(lo), tuple(hi)), locs[0].size
+
+    def snapshot(self, act: ActView, env: EnvModel) -> Any:
+        """First snapshot: the region and its window pixels; the last one is taken at compare."""
+        if self.eyes.frame is None:
+            return None
+        found = self.region(act, env)
+        if found is None:
+            return None
+        region, size = found
+        self.detector.attention(region)
+        return {"size": size, "shot": self.detector.take(self.eyes.frame)}
+
+    def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
+        """Appeared / disappeared / no-change, and where (for a place: the release point)."""
+        if not first or self.eyes.frame is None:
+            return None
+        det, shot = self.detector, first["shot"]
+        det.attention(shot.region)
+        det.area_threshold = self.threshold(shot.region, first["size"])
+        result = det.judge(shot, det.take(self.eyes.frame))
+        pos = det.target()
+        if result == APPEARED and self.eyes.release is not None:
+            # The block is set down centred between the fingers; the top view of it is
+            # hidden by the hand, so x, y come from the hand at the release (Sec. V-B4).
+            rel = self.eyes.release + self.eyes.grip
+            z = float(pos[2]) if pos is not None else float(rel[2])
+            pos = np.array([rel[0], rel[1], z])
+        return Detection(value=SIL_DIFF[result],
+                         position=tuple(float(c) for c in pos) if pos is not None else None)
+
+    def threshold(self, region: Region3D, size: Sequence[float]) -> float:
+        """Area fraction that counts as a change: a third of the object's share of the window."""
+        cam = self.eyes.cameras["side"]
+        obj = Region3D.around(region.center, size)
+        x0, y0, x1, y1 = cam.box_region(obj.lo, obj.hi)
+        w0, v0, w1, v1 = cam.box_region(region.lo, region.hi, margin=1)
+        share = max(1, (x1 - x0) * (y1 - y0)) / max(1, (w1 - w0) * (v1 - v0))
+        return float(min(0.12, share / 3.0))
+
+
+class CoplanarNode:
+    """CoplDet: are the moved block's faces coplanar with a neighbour's (Fig. 5, ALIGN)?"""
+
+    def __init__(self, eyes: Eyes) -> None:
+        """A coplanar-detector on the shared windows."""
+        self.eyes = eyes
+        self.detector = CoplanarDetector(eyes.cameras, eyes.resources)
+
+    def status(self, act: ActView, env: EnvModel) -> set[tuple[str, str]]:
+        """(neighbour, face) pairs whose face is coplanar with the held block's."""
+        held = held_box(self.eyes, env)
+        if held is None or self.eyes.frame is None:
+            return set()
+        node, a = held
+        out = set()
+        for other in env.objects():
+            if other.name == node.name or other.position is None or other.size is None:
+                continue
+            b = box(other)
+            for axis, faces in ((1, ("east", "west")), (0, ("north", "south"))):
+                across = 1 - axis
+                gap = abs(a.center[axis] - b.center[axis]) - (a.size[axis] + b.size[axis]) / 2
+                overlap = (a.size[across] + b.size[across]) / 2 - abs(a.center[across]
+                                                                      - b.center[across])
+                if gap > CONTACT_MM or overlap <= 0 or abs(a.lo[2] - b.lo[2]) > 10.0:
+                    continue
+                for face in faces:
+                    if self.detector.check(self.eyes.frame, a, b, face):
+                        out.add((other.name, face))
+        self.detector.free()
+        return out
+
+    def snapshot(self, act: ActView, env: EnvModel) -> Any:
+        """Coplanar face pairs now."""
+        return self.status(act, env)
+
+    def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
+        """positive: a coplanar pair appeared; negative: one was lost; else unchanged."""
+        first, last = first or set(), last or set()
+        sign = 1 if last - first else -1 if first - last else 0
+        return Detection(value=COPL_DET[sign])

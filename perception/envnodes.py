@@ -1,0 +1,379 @@
+"""Perception-backed ENV-node answers: the Table III events from the VFDs (Sec. III, V-A).
+
+One ``Eyes`` object owns the visual feature detectors of docs/vision.md (all
+windows come from one 32-window resource manager) and reads each frame once.
+Thin adapters, one per detector name of rules/events.yaml, implement the
+engine's ``Detector`` protocol (lbw_engine/detectors.py) on top of it:
+
+| detector            | events / diffs                           | VFDs used                  |
+|---------------------|------------------------------------------|----------------------------|
+| object-finder       | loc-exist                                | ObjectFinder               |
+| motion-detector     | found-moving                             | MotionDetector, HandTracker|
+| hand-tracker        | disappeared, small/large-motion, far     | HandTracker                |
+| visual-search       | near (guided search, Sec. III-E)         | SilFinder                  |
+| hand-object-tracker | join, split                              | HandTracker                |
+| change-detector     | SilDiff snapshots (Table V)              | ChangeDetector             |
+| coplanar-detector   | CoplDet snapshots (Table V, ALIGN)       | CoplanarDetector           |
+
+Only frames, the camera models, the shape database and the environment model
+the engine keeps are read here; docs/seeing.md explains each decision.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from lbw_engine.detectors import ActView, Detection, DetectorRegistry, ObjectInfo
+from lbw_engine.envmodel import HAND, TABLE, EnvModel, EnvNode
+from lbw_engine.errors import InputError
+from lbw_engine.recognizer import Recognizer
+from lbw_engine.rules import RuleSet
+
+from .camera import WORKSPACE_HI, WORKSPACE_LO, Camera
+from .detectors_vision import ChangeNode, CoplanarNode, SearchNode
+from .frames import Frame
+from .vfd_hand import HandTracker
+from .vfd_motion import MotionDetector
+from .vfd_objects import ObjectFinder
+from .vfd_resources import VisionResources
+
+Vec3 = tuple[float, float, float]
+
+NAME_RADIUS = 40.0  # mm: a found object takes a teach name within this distance (same shape)
+BORDER_MM = 40.0  # the hand was lost this close to the workspace's edge: it left (:Disappeared)
+REENTRY_S = 0.5  # s after leaving before a moving thing counts as a new hand (no Case-2 echo)
+FAR_RISE_MM = 60.0  # :Far once the hand is this far above where it worked, moving off
+JOIN_MM = 10.0  # :Join while the hand stays within this height of its lowest point
+DESCENT_MM = 30.0  # ... after coming down at least this far since :Near
+SETTLE_FRAMES = 5  # tracked frames after a (re)placement before the velocity is trusted
+VELOCITY_FRAMES = 11  # least-squares velocity over this many tracked frames (~0.37 s)
+SPLIT_MM = 8.0  # :Split once it has risen this much above where it joined
+
+
+class Eyes:
+    """The VFDs behind the ENV-nodes, fed one frame at a time (online, causal)."""
+
+    def __init__(self, cameras: Mapping[str, Camera], shapes: Mapping[str, Sequence[float]],
+                 rules: RuleSet, names: Mapping[str, tuple[str, Sequence[float]]] | None = None
+                 ) -> None:
+        """Detectors on ``cameras``; ``shapes`` is the shape database; ``names`` a naming hint."""
+        self.cameras, self.rules = dict(cameras), rules
+        self.shapes = {k: tuple(float(v) for v in s) for k, s in shapes.items()}
+        self.names = dict(names or {})
+        self.resources = VisionResources()
+        self.motion = MotionDetector(self.cameras, self.resources,
+                                     interval=float(rules.constants["motion-detector-interval"]))
+        self.motion.start()
+        self.tracker = HandTracker(self.cameras, self.resources)
+        self.objects = ObjectFinder(self.cameras, self.resources)
+        low, high = rules.motion_features.ranges[next(iter(rules.motion_features.ranges))]
+        self.v_slow, self.v_fast = float(low), float(high)  # V_L1, V_H1 (footnote 11)
+        self.frame: Frame | None = None
+        self.t = 0.0
+        self.hand: np.ndarray | None = None  # tracked 3-D hand position this frame
+        self.velocity = np.zeros(3)
+        self.state = "absent"  # absent | tracking | lost | gone
+        self.t_gone = -1e9
+        self.moving: np.ndarray | None = None  # the motion-detector's latest point
+        self.low: float | None = None  # lowest hand height since the last :Near
+        self.high: float | None = None  # hand height at the last :Near
+        self.settled = 0  # frames tracked since the tracker was (re)placed
+        self.track: deque[tuple[float, np.ndarray]] = deque(maxlen=VELOCITY_FRAMES)
+        self.joined_at: float | None = None  # hand height at the last :Join
+        self.release: np.ndarray | None = None  # hand position at the last :Split
+        self.grip = np.zeros(3)  # held block centre minus hand, measured at the grasp
+        self.pixels: list[int] = []  # pixels read per frame (benchmark)
+        self.search = SearchNode(self)
+        self.change = ChangeNode(self)
+        self.coplanar = CoplanarNode(self)
+
+    # -- per frame -----------------------------------------------------------------
+    def begin_frame(self, t: float, frame: Frame) -> None:
+        """Run the always-on detectors (motion, hand tracking) on a new frame, once."""
+        if frame is self.frame:
+            return
+        if self.frame is not None:
+            self.pixels.append(self.resources.end_frame())
+        self.frame, self.t = frame, t
+        self.motion.update(frame)
+        self.moving = self.motion.target() if self.motion.found() else None
+        if self.moving is not None and self.state == "tracking":
+            if self.tracker.stimulate(self.moving):  # re-placed: > 120 mm off (Sec. V-A)
+                self.settled = 0
+        elif self.moving is not None and self.state == "lost" and _inside(self.moving):
+            self.tracker.place(self.moving)  # the same hand, found again: not a new one
+            self.state, self.settled = "tracking", 0
+        self.tracker.update(frame)
+        self.settled += 1
+        if self.state == "tracking" and not self.tracker.tracking:
+            gone = self.hand is None or not _inside(self.hand, -BORDER_MM)
+            self.state, self.t_gone = ("gone", t) if gone else ("lost", self.t_gone)
+        if self.settled == 1:
+            self.track.clear()
+        if self.tracker.tracking and self.tracker.position is not None:
+            self.hand = self.tracker.position
+            self.track.append((t, self.hand))
+            self.velocity = _slope(self.track)
+            if self.low is not None:
+                self.low = min(self.low, float(self.hand[2]))
+
+    def speed(self) -> float:
+        """Current hand speed (mm/s)."""
+        return float(np.linalg.norm(self.velocity))
+
+    def hand_detection(self, **kw: Any) -> Detection:
+        """A detection carrying the measured hand position (HandLoc, Table II)."""
+        pos = {HAND: _vec(self.hand)} if self.hand is not None else {}
+        return Detection(positions=pos, **kw)
+
+    # -- :Loc-exist ------------------------------------------------------------------------
+    def locate(self) -> Detection | None:
+        """The object-finder's initial state, named per design.md."""
+        found = self.objects.find(self.frame, self.shapes)
+        if not found:
+            return None
+        taken: set[str] = set()
+        counts: dict[str, int] = {}
+        out: dict[str, ObjectInfo] = {}
+        for obj in sorted(found, key=lambda o: (o.position[0], o.position[1])):
+            name = self._teach_name(obj.shape, obj.position, taken)
+            if name is None:
+                counts[obj.shape] = counts.get(obj.shape, 0) + 1
+                name = f"{obj.shape}{counts[obj.shape]}"
+                while name in self.names or name in out:
+                    counts[obj.shape] += 1
+                    name = f"{obj.shape}{counts[obj.shape]}"
+            taken.add(name)
+            out[name] = ObjectInfo(obj.shape, self.shapes.get(obj.shape, obj.size), obj.position)
+        return Detection(found=tuple(out), objects=out)
+
+    def _teach_name(self, shape: str, pos: Sequence[float], taken: set[str]) -> str | None:
+        """The hint's name of the same shape nearest to ``pos`` (within NAME_RADIUS)."""
+        best, dist = None, NAME_RADIUS
+        for name, (s, at) in self.names.items():
+            d = float(np.hypot(pos[0] - at[0], pos[1] - at[1]))
+            if s == shape and name not in taken and d <= dist:
+                best, dist = name, d
+        return best
+
+    # -- :Found-moving, :Disappeared -------------------------------------------------------
+    def found_moving(self) -> Detection | None:
+        """A moving thing inside the workspace while no hand is tracked: a new hand."""
+        if self.state not in ("absent", "gone") or self.moving is None:
+            return None
+        if self.state == "gone" and self.t - self.t_gone < REENTRY_S:
+            return None
+        if not _inside(self.moving, BORDER_MM):
+            return None
+        self.tracker.place(self.moving)
+        self.state, self.hand, self.settled = "tracking", np.asarray(self.moving, float), 0
+        return Detection(found=(HAND,), positions={HAND: _vec(self.moving)})
+
+    def disappeared(self) -> Detection | None:
+        """The tracked hand was lost at the workspace's edge: it went outside the world."""
+        return Detection() if self.state == "gone" else None
+
+    # -- :Far, :Join, :Split -------------------------------------------------------------------
+    def far(self) -> Detection | None:
+        """Hand moving fast and well above where it worked (the LocalMotion's low point)."""
+        if self.hand is None or self.low is None or self.state != "tracking":
+            return None
+        v = self.velocity
+        sideways = float(np.hypot(v[0], v[1]))
+        # A depart rises almost vertically at up to about V_H1; leaving for the next target
+        # adds a fast sideways component, or (same target again) a much faster rise.
+        if self.hand[2] - self.low > FAR_RISE_MM and (sideways > self.v_fast
+                                                     or self.speed() > 2 * self.v_fast):
+            self.low = None
+            return self.hand_detection()
+        return None
+
+    def join(self, target: Sequence[EnvNode], env: EnvModel) -> Detection | None:
+        """Hand staying at its lowest point (touching the target)."""
+        if self.hand is None or self.low is None:
+            return None
+        if (self.speed() < self.v_slow and self.hand[2] - self.low < JOIN_MM
+                and self.high - self.low > DESCENT_MM):
+            self.joined_at = float(self.hand[2])
+            locs = [n for n in target if n.kind == "Loc" and n.position is not None]
+            if not env.held() and len(locs) == 1:  # where a grasp would hold it
+                self.grip = np.asarray(locs[0].position, float) - self.hand
+            return self.hand_detection()
+        return None
+
+    def split(self) -> Detection | None:
+        """Hand rising away from where it joined."""
+        if self.hand is None or self.joined_at is None:
+            return None
+        if self.hand[2] - self.joined_at > SPLIT_MM:
+            self.joined_at = None
+            self.release = self.hand.copy()
+            return self.hand_detection()
+        return None
+
+    def near_found(self) -> None:
+        """A LocalMotion starts: track the hand's lowest point from here."""
+        self.low = float(self.hand[2]) if self.hand is not None else None
+        self.high, self.release = self.low, None
+
+
+def _slope(samples: Sequence[tuple[float, np.ndarray]]) -> np.ndarray:
+    """Least-squares velocity (mm/s) of timed 3-D samples; zero with fewer than three."""
+    if len(samples) < 3:
+        return np.zeros(3)
+    t = np.array([s[0] for s in samples])
+    x = np.array([s[1] for s in samples])
+    t = t - t.mean()
+    return (t @ (x - x.mean(axis=0))) / float(t @ t)
+
+
+def _inside(p: Sequence[float], margin: float = 0.0) -> bool:
+    """Whether ``p`` lies over the table, ``margin`` mm beyond (or, negative, within) it."""
+    return bool(WORKSPACE_LO[0] - margin <= p[0] <= WORKSPACE_HI[0] + margin
+                and WORKSPACE_LO[1] - margin <= p[1] <= WORKSPACE_HI[1] + margin)
+
+
+def _vec(p: Iterable[float]) -> Vec3:
+    """A plain float triple."""
+    x, y, z = (float(c) for c in p)
+    return (x, y, z)
+
+
+class _Node:
+    """Adapter: one detector name of the rules answering through the shared Eyes."""
+
+    answers: dict[str, str] = {}  # event -> Eyes method
+
+    def __init__(self, eyes: Eyes, name: str) -> None:
+        """Serve detector ``name``."""
+        self.eyes, self.name = eyes, name
+
+    def begin_frame(self, t: float, frame: Any) -> None:
+        """Feed the frame to the shared detectors (once per frame)."""
+        self.eyes.begin_frame(t, frame)
+
+    def query(self, event: str, base: Sequence[EnvNode], target: Sequence[EnvNode],
+              env: EnvModel) -> Detection | None:
+        """Answer ``event`` from the VFDs."""
+        method = self.answers.get(event)
+        if method is None and event in self.eyes.rules.motion_features.ranges:
+            method = "motion_value"
+        if method is None:
+            raise InputError(f"detector {self.name!r} cannot answer the event {event!r}")
+        return getattr(self, method)(base, target, env)
+
+    def snapshot(self, act: ActView, env: EnvModel) -> Any:
+        """No snapshot for this detector."""
+        return None
+
+    def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
+        """Nothing to compare."""
+        return None
+
+
+class _Objects(_Node):
+    answers = {"loc-exist": "loc_exist"}
+
+    def loc_exist(self, base, target, env) -> Detection | None:
+        """Object-finder: identify and locate the objects (Sec. III-B)."""
+        return self.eyes.locate()
+
+
+class _Motion(_Node):
+    answers = {"found-moving": "found_moving"}
+
+    def found_moving(self, base, target, env) -> Detection | None:
+        """Motion-detector: a new moving hand (Sec. III-C1)."""
+        return self.eyes.found_moving()
+
+
+class _Hand(_Node):
+    answers = {"disappeared": "disappeared", "far": "far"}
+
+    def disappeared(self, base, target, env) -> Detection | None:
+        """Hand-tracker lost the hand at the edge."""
+        return self.eyes.disappeared()
+
+    def far(self, base, target, env) -> Detection | None:
+        """Hand away from the target."""
+        return self.eyes.far()
+
+    def motion_value(self, base, target, env) -> Detection | None:
+        """HandLoc: the tracker's velocity; the engine classifies it (Table IV)."""
+        eyes = self.eyes
+        if eyes.hand is None or eyes.state != "tracking" or eyes.settled < SETTLE_FRAMES:
+            return None
+        return eyes.hand_detection(velocity=_vec(eyes.velocity))
+
+
+class _HandObject(_Node):
+    answers = {"join": "join", "split": "split"}
+
+    def join(self, base, target, env) -> Detection | None:
+        """Hand (with what it holds) touches the target."""
+        return self.eyes.join(target, env)
+
+    def split(self, base, target, env) -> Detection | None:
+        """Hand leaves the target."""
+        return self.eyes.split()
+
+
+class _Search(_Node):
+    answers = {"near": "near"}
+
+    def near(self, base, target, env) -> Detection | None:
+        """Guided visual search below the hand, confirmed in the env model (Sec. III-E)."""
+        found = self.eyes.search.near(env)
+        if found:
+            self.eyes.near_found()
+            return self.eyes.hand_detection(found=found)
+        return None
+
+
+class _Snapshots(_Node):
+    """Snapshot/compare adapter for a VFD node with ``snapshot``/``compare``."""
+
+    def __init__(self, eyes: Eyes, name: str, node: Any) -> None:
+        """Serve snapshots through ``node``."""
+        super().__init__(eyes, name)
+        self.node = node
+
+    def snapshot(self, act: ActView, env: EnvModel) -> Any:
+        """Take the VFD's snapshot of the current frame for ``act``."""
+        return self.node.snapshot(act, env)
+
+    def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
+        """The VFD's qualitative change between the two snapshots."""
+        return self.node.compare(first, last, act, env)
+
+
+def perception_detectors(eyes: Eyes) -> dict[str, Any]:
+    """Detector name (rules/events.yaml) -> perception-backed Detector."""
+    return {
+        "object-finder": _Objects(eyes, "object-finder"),
+        "motion-detector": _Motion(eyes, "motion-detector"),
+        "hand-tracker": _Hand(eyes, "hand-tracker"),
+        "visual-search": _Search(eyes, "visual-search"),
+        "hand-object-tracker": _HandObject(eyes, "hand-object-tracker"),
+        "change-detector": _Snapshots(eyes, "change-detector", eyes.change),
+        "coplanar-detector": _Snapshots(eyes, "coplanar-detector", eyes.coplanar),
+    }
+
+
+def watch_frames(frames: Iterable[Frame], cameras: Mapping[str, Camera],
+                 shapes: Mapping[str, Sequence[float]], rules: RuleSet,
+                 names: Mapping[str, tuple[str, Sequence[float]]] | None = None
+                 ) -> tuple[Recognizer, Eyes]:
+    """Recognize a demonstration online from a frame source (images only)."""
+    eyes = Eyes(cameras, shapes, rules, names)
+    registry = DetectorRegistry.for_rules(rules, perception_detectors(eyes))
+    recognizer = Recognizer(rules, registry)
+    recognizer.run((f.t, f) for f in frames)
+    return recognizer, eyes
+
+
+__all__ = ["Eyes", "TABLE", "perception_detectors", "watch_frames"]
