@@ -63,14 +63,16 @@ class _Tracker:
         """One tracking cycle (Sec. III-C2 steps 1-4); False if the target is lost."""
         w = self.window
         sub = w.read(image)
-        c = centroid(band(sub, *HAND_BAND))
+        mask = band(sub, *HAND_BAND)
+        c = centroid(mask)
         if c is None or c[2] < MIN_PIXELS:
             self.feature = None
             self.offset, self.sign = -self.offset, -self.sign  # Fig. 3(d): local recovery
             self.place(self.center + self.offset)
             return False
         self.feature = np.array([w.x0 + c[0], w.y0 + c[1]])
-        self.tip = w.y0 + float(np.nonzero(band(sub, *HAND_BAND).any(axis=1))[0].max())
+        rows = np.nonzero(mask.sum(axis=1) >= 2)[0]  # a lone noisy pixel is no fingertip
+        self.tip = w.y0 + float(rows.max() if len(rows) else c[1])
         self.place(self.feature + self.offset)
         return True
 

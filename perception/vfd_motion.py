@@ -65,8 +65,12 @@ class MotionDetector(VFD):
         points = {}
         cells = 0
         for view in VIEWS:
-            diff = np.abs(current[view] - previous[view]).astype(np.float32)
-            diff[diff <= self.threshold] = 0
+            signed = (current[view] - previous[view]).astype(np.float32)
+            diff = np.abs(signed)
+            # Most cells see only sensor noise: their robust spread sets the floor, so a
+            # noisier camera does not report motion everywhere.
+            sigma = 1.4826 * float(np.median(np.abs(signed - np.median(signed))))
+            diff[diff <= max(self.threshold, 5.0 * sigma)] = 0
             ys, xs = np.nonzero(diff)
             if len(xs) == 0:
                 return

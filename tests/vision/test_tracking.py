@@ -118,3 +118,41 @@ def test_attention_projects_a_region_into_both_views():
     assert res.in_use == 2
     v.free()
     assert res.in_use == 0
+
+
+def _reach_and_descend(k, speed):
+    """Reach across the table, then come down beside a plate (touching height)."""
+    t = k / 30.0 * speed
+    if t < 2:
+        return np.array([-250 + 150 * t, 150 + 40 * t, 180.0])
+    return np.array([50.0, 230.0, max(45.0, 180 - 60 * (t - 2))])
+
+
+@pytest.mark.parametrize("carry,noise,speed", [(False, 2.0, 1.0), (False, 5.0, 2.0),
+                                               (True, 2.0, 1.0), (True, 5.0, 2.0)],
+                         ids=["empty-noise2", "empty-noise5-fast", "carrying-noise2",
+                              "carrying-noise5-fast"])
+def test_hand_tracker_near_blocks_while_carrying_and_with_more_noise(carry, noise, speed):
+    film, res = Film(noise=noise), VisionResources()
+    md, ht = MotionDetector(CAMS, res), HandTracker(CAMS, res)
+    md.start()
+    scene = [block(-150, 200), block(100, 250), block(40, 180, (120, 100, 10))]
+    errors, evidence = [], []
+    for k in range(150):
+        p = _reach_and_descend(k, speed)
+        boxes = scene + hand(*p, 32 if carry else 60)
+        if carry:
+            boxes.append(block(p[0], p[1], (30, 30, 50), p[2] - 25))
+        frame = film.shoot(boxes)
+        md.update(frame)
+        if md.found():
+            ht.stimulate(md.target())
+        ht.update(frame)
+        if ht.position is not None and k > 30:
+            errors.append(dist(ht.position, p))
+            evidence.append(ht.holding_evidence)
+        res.end_frame()
+    assert len(errors) > 110
+    assert np.median(errors) < 3.0 and max(errors) < 8.0
+    assert bool(np.median(evidence) > 0.5) is carry  # the holder window sees the held block
+    assert np.mean(res.history) < 0.10 * 2 * 256 * 256  # windows keep the reads small
