@@ -33,9 +33,13 @@ class MotionDetector(VFD):
         """Whole-image windows read every ``step`` px, averaged over ``cell`` x ``cell``."""
         super().__init__(cameras, resources)
         self.interval, self.step, self.cell, self.threshold = interval, step, cell, threshold
-        for view in VIEWS:
-            w, h = self.cameras[view].size
-            self.windows[view].append(resources.allocate(view, (0, 0, w, h), step=step))
+        try:
+            for view in VIEWS:
+                w, h = self.cameras[view].size
+                self.windows[view].append(resources.allocate(view, (0, 0, w, h), step=step))
+        except Exception:
+            self.free()  # all or nothing: do not keep half the windows
+            raise
         self._buffers: dict[str, np.ndarray] = {}
         self._t_last: float | None = None
         self.image_points: dict[str, tuple[float, float]] = {}

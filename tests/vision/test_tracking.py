@@ -156,3 +156,18 @@ def test_hand_tracker_near_blocks_while_carrying_and_with_more_noise(carry, nois
     assert np.median(errors) < 3.0 and max(errors) < 8.0
     assert bool(np.median(evidence) > 0.5) is carry  # the holder window sees the held block
     assert np.mean(res.history) < 0.10 * 2 * 256 * 256  # windows keep the reads small
+
+
+@pytest.mark.parametrize("make,need", [(MotionDetector, 2), (HandTracker, 5)],
+                         ids=["motion-detector", "hand-tracker"])
+def test_detectors_take_all_their_windows_or_none(make, need):
+    res = VisionResources()
+    hog = [res.allocate("top") for _ in range(MAX_WINDOWS - need + 1)]
+    with pytest.raises(ResourceExhausted):
+        make(CAMS, res)
+    assert res.in_use == len(hog)
+    res.free(hog[0])
+    det = make(CAMS, res)
+    assert res.in_use == MAX_WINDOWS
+    det.free()
+    assert res.in_use == MAX_WINDOWS - need
