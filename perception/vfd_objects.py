@@ -75,7 +75,7 @@ class ObjectFinder(VFD):
             base = max(below, default=0.0)
             size = np.array([x1 - x0, y1 - y0, height - base])
             name, mismatch = _nearest(shapes, size)
-            found.append(FoundObject(name, (cx, cy, base + size[2] / 2.0),
+            found.append(FoundObject(name, (float(cx), float(cy), float(base + size[2] / 2.0)),
                                      tuple(size.tolist()), mismatch))
         self._found = bool(found)
         self._target = np.array([f.position for f in found]) if found else None
