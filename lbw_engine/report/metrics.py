@@ -1,0 +1,177 @@
+"""Recognized sequence vs. ground truth, plan vs. true final relations (benchmark figures).
+
+Operation names are compared as opaque strings: nothing here knows what any
+operation means (the rules decide). One convention from perception.groundtruth:
+the hand's leaving motion may be split by the recognizer (Fig. 12 shows two
+closing operations where the demonstrator made one), so trailing repeats of a
+sequence's last operation count as one (``collapse_tail``).
+"""
+
+from __future__ import annotations
+
+import statistics
+from collections.abc import Sequence
+from typing import Any
+
+
+def collapse_tail(ops: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Merge trailing repeats of the last operation into one spanning all of them."""
+    if len(ops) < 2:
+        return list(ops)
+    last = ops[-1]["operation"]
+    k = len(ops) - 1
+    while k > 0 and ops[k - 1]["operation"] == last:
+        k -= 1
+    if k == len(ops) - 1:
+        return list(ops)
+    merged = dict(ops[k], t_end=ops[-1].get("t_end"))
+    return [*ops[:k], merged]
+
+
+def align(expected: Sequence[str], got: Sequence[str]) -> tuple[int, list[tuple[int, int]]]:
+    """Levenshtein distance and the matched index pairs (equal names) of one optimal alignment."""
+    n, m = len(expected), len(got)
+    d = [[0] * (m + 1) for _ in range(n + 1)]
+    for i in range(n + 1):
+        d[i][0] = i
+    for j in range(m + 1):
+        d[0][j] = j
+    for i in range(1, n + 1):
+        for j in range(1, m + 1):
+            cost = 0 if expected[i - 1] == got[j - 1] else 1
+            d[i][j] = min(d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost)
+    pairs = []
+    i, j = n, m
+    while i > 0 and j > 0:
+        if expected[i - 1] == got[j - 1] and d[i][j] == d[i - 1][j - 1]:
+            pairs.append((i - 1, j - 1))
+            i, j = i - 1, j - 1
+        elif d[i][j] == d[i - 1][j - 1] + 1:
+            i, j = i - 1, j - 1
+        elif d[i][j] == d[i - 1][j] + 1:
+            i -= 1
+        else:
+            j -= 1
+    return d[n][m], pairs[::-1]
+
+
+def first_difference(expected: Sequence[str], got: Sequence[str]) -> str:
+    """Where two sequences first differ, in words (for the benchmark's failure list)."""
+    for k, (a, b) in enumerate(zip(expected, got, strict=False)):
+        if a != b:
+            return f"at #{k}: expected {a}, got {b}"
+    if len(expected) != len(got):
+        k = min(len(expected), len(got))
+        more = f"missing {expected[k]}" if len(expected) > len(got) else f"extra {got[k]}"
+        return f"at #{k}: {more} ({len(got)} operations instead of {len(expected)})"
+    return "identical"
+
+
+def compare_sequence(truth: list[dict[str, Any]], ops: list[dict[str, Any]]) -> dict[str, Any]:
+    """Exactness, edit accuracy and boundary timing errors of recognized ``ops``.
+
+    ``truth`` and ``ops`` are lists of {"operation", "t_start", "t_end"}. Timing
+    errors (seconds) are those of the start and end of every operation matched
+    by the alignment.
+    """
+    truth, ops = collapse_tail(truth), collapse_tail(ops)
+    expected = [t["operation"] for t in truth]
+    got = [o["operation"] for o in ops]
+    dist, pairs = align(expected, got)
+    errors = []
+    for i, j in pairs:
+        for key in ("t_start", "t_end"):
+            if truth[i].get(key) is not None and ops[j].get(key) is not None:
+                errors.append(abs(float(ops[j][key]) - float(truth[i][key])))
+    return {"exact": expected == got, "edit_distance": dist,
+            "accuracy": max(0.0, 1.0 - dist / max(1, len(expected))),
+            "timing_errors": errors, "difference": first_difference(expected, got),
+            "expected": len(expected), "recognized": len(got)}
+
+
+def _norm(rel: Sequence[Any], rename: dict[str, str]) -> tuple | None:
+    """A support relation as (subject, sorted supports); None for other relation types."""
+    if len(rel) < 3 or not str(rel[0]).startswith("on"):
+        return None
+    obj = rel[2] if isinstance(rel[2], list) else [rel[2]]
+    return (rename.get(rel[1], rel[1]), tuple(sorted(rename.get(o, o) for o in obj)))
+
+
+def plan_final_relations(plan: dict[str, Any], rename: dict[str, str] | None = None) -> set:
+    """Support relations the plan's root achieves (its SC+), names mapped through ``rename``."""
+    rename = rename or {}
+    root = plan["operators"][plan["root"]]
+    return {r for r in (_norm(rel, rename) for rel in root.get("sc_plus", [])) if r}
+
+
+def true_changes(initial: list, final: list) -> set:
+    """Support relations of the true final state that the demonstration created."""
+    before = {r for r in (_norm(rel, {}) for rel in initial) if r}
+    return {r for r in (_norm(rel, {}) for rel in final) if r} - before
+
+
+def percentile(values: Sequence[float], q: float) -> float | None:
+    """The q-th percentile (linear interpolation), None for no values."""
+    if not values:
+        return None
+    xs = sorted(values)
+    pos = (len(xs) - 1) * q / 100.0
+    lo = int(pos)
+    hi = min(lo + 1, len(xs) - 1)
+    return xs[lo] + (xs[hi] - xs[lo]) * (pos - lo)
+
+
+def summarize(records: list[dict[str, Any]], levels: Sequence[str]) -> dict[str, dict]:
+    """Per noise level: rates, accuracy, timing error percentiles, speed, pixels per frame."""
+    out = {}
+    for level in levels:
+        rs = [r for r in records if r["level"] == level]
+        if not rs:
+            continue
+        ok = [r for r in rs if "error" not in r]
+        timing = [e for r in ok for e in r["timing_errors"]]
+
+        out[level] = {
+            "scenarios": len(rs), "crashed": len(rs) - len(ok),
+            "exact_sequence_rate": _rate(rs, "exact"),
+            "edit_accuracy": statistics.fmean(r["accuracy"] for r in ok) if ok else 0.0,
+            "timing_error_median_s": percentile(timing, 50),
+            "timing_error_p95_s": percentile(timing, 95),
+            "plan_correct_rate": _rate(rs, "plan_correct"),
+            "execution_success_rate": _rate(rs, "execution_success"),
+            "realtime_factor_watch": _ratio(ok, "demo_seconds", "watch_seconds"),
+            "realtime_factor_pipeline": _ratio(ok, "demo_seconds", "total_seconds"),
+            "pixels_per_frame": statistics.fmean(r["pixels_per_frame"] for r in ok) if ok
+            else None,
+        }
+    return out
+
+
+def _rate(rs: list[dict], key: str) -> float:
+    """Fraction of all records where ``key`` is true (a crashed run counts as a failure)."""
+    return sum(1 for r in rs if r.get(key)) / max(1, len(rs))
+
+
+def _ratio(rs: list[dict], num: str, den: str) -> float | None:
+    """sum(num) / sum(den) over records (an aggregate real-time factor)."""
+    d = sum(r[den] for r in rs)
+    return sum(r[num] for r in rs) / d if d else None
+
+
+def format_table(summary: dict[str, dict]) -> str:
+    """The per-level figures as a plain text table."""
+    rows = [("level", "n", "exact", "edit-acc", "t-err med", "t-err p95", "plan ok", "exec ok",
+             "RTF watch", "RTF all", "px/frame")]
+
+    def f(v: Any, fmt: str) -> str:
+        """Format or dash."""
+        return "-" if v is None else format(v, fmt)
+
+    for level, s in summary.items():
+        rows.append((level, str(s["scenarios"]), f(s["exact_sequence_rate"], ".0%"),
+                     f(s["edit_accuracy"], ".1%"), f(s["timing_error_median_s"], ".2f"),
+                     f(s["timing_error_p95_s"], ".2f"), f(s["plan_correct_rate"], ".0%"),
+                     f(s["execution_success_rate"], ".0%"), f(s["realtime_factor_watch"], ".1f"),
+                     f(s["realtime_factor_pipeline"], ".1f"), f(s["pixels_per_frame"], ".0f")))
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    return "\n".join("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows)
