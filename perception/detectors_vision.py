@@ -29,6 +29,7 @@ TOP_TOLERANCE_MM = 15.0  # confirmed targets: tops within this of the highest on
 SUPPORT_TOLERANCE_MM = 8.0  # the held block's centre may lie this far off its supports' boxes
 PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, align slide)
 PICK_MARGIN_MM = 8.0
+HOLDING, EMPTY = 0.3, 0.1  # block fraction of the holder window: an object held / none
 CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for CoplDet)
 
 # The change-detector's results, named as the rules' SilDiff values (rules/analysis.yaml).
@@ -162,7 +163,8 @@ class ChangeNode:
             return None
         region, size = found
         self.detector.attention(region)
-        return {"size": size, "shot": self.detector.take(self.eyes.frame)}
+        return {"size": size, "shot": self.detector.take(self.eyes.frame),
+                "hold": self.eyes.tracker.holding_evidence}
 
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
         """Appeared / disappeared / no-change, and where (for a place: the release point)."""
@@ -173,6 +175,15 @@ class ChangeNode:
         det.area_threshold = self.threshold(shot.region, first["size"])
         result = det.judge(shot, det.take(self.eyes.frame))
         pos = det.target()
+        if result == NO_CHANGE:
+            # The region may be hidden at the end (the palm above it in the top view, a block
+            # in front of it in the side view); the holder window between the fingers
+            # (Sec. III-C3) then tells whether the object left or joined the hand.
+            before, after = first["hold"], self.eyes.tracker.holding_evidence
+            if before >= HOLDING and after <= EMPTY:
+                result = APPEARED
+            elif before <= EMPTY and after >= HOLDING:
+                result = DISAPPEARED
         if result == APPEARED and self.eyes.release is not None:
             # The block is set down centred between the fingers; the top view of it is
             # hidden by the hand, so x, y come from the hand at the release (Sec. V-B4).

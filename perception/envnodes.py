@@ -50,7 +50,9 @@ FAR_RISE_MM = 60.0  # :Far once the hand is this far above where it worked, movi
 JOIN_MM = 10.0  # :Join while the hand stays within this height of its lowest point
 DESCENT_MM = 30.0  # ... after coming down at least this far since :Near
 SETTLE_FRAMES = 5  # tracked frames after a (re)placement before the velocity is trusted
-VELOCITY_FRAMES = 11  # least-squares velocity over this many tracked frames (~0.37 s)
+FAR_FRAMES = 2  # ... on this many frames in a row
+VELOCITY_FRAMES = 7  # least-squares velocity over this many tracked frames (~0.23 s)
+RECENT_FRAMES = 5  # :Far reads a quicker velocity (less lag at the start of a Transfer)
 SPLIT_MM = 8.0  # :Split once it has risen this much above where it joined
 
 
@@ -81,8 +83,10 @@ class Eyes:
         self.moving: np.ndarray | None = None  # the motion-detector's latest point
         self.low: float | None = None  # lowest hand height since the last :Near
         self.high: float | None = None  # hand height at the last :Near
+        self.off_frames = 0  # frames in a row the hand moved off fast (:Far)
         self.settled = 0  # frames tracked since the tracker was (re)placed
         self.track: deque[tuple[float, np.ndarray]] = deque(maxlen=VELOCITY_FRAMES)
+        self.raw: deque[np.ndarray] = deque(maxlen=3)  # last tracker positions (median of 3)
         self.joined_at: float | None = None  # hand height at the last :Join
         self.release: np.ndarray | None = None  # hand position at the last :Split
         self.grip = np.zeros(3)  # held block centre minus hand, measured at the grasp
@@ -114,8 +118,12 @@ class Eyes:
             self.state, self.t_gone = ("gone", t) if gone else ("lost", self.t_gone)
         if self.settled == 1:
             self.track.clear()
+            self.raw.clear()
         if self.tracker.tracking and self.tracker.position is not None:
-            self.hand = self.tracker.position
+            # A finger window may snap to a neighbouring edge for a frame (z jumps of a few
+            # cm beside carried blocks); the median of three drops such single-frame jumps.
+            self.raw.append(self.tracker.position)
+            self.hand = np.median(np.array(self.raw), axis=0)
             self.track.append((t, self.hand))
             self.velocity = _slope(self.track)
             if self.low is not None:
@@ -182,12 +190,15 @@ class Eyes:
         """Hand moving fast and well above where it worked (the LocalMotion's low point)."""
         if self.hand is None or self.low is None or self.state != "tracking":
             return None
-        v = self.velocity
+        v = _slope(list(self.track)[-RECENT_FRAMES:])
         sideways = float(np.hypot(v[0], v[1]))
         # A depart rises almost vertically at up to about V_H1; leaving for the next target
-        # adds a fast sideways component, or (same target again) a much faster rise.
-        if self.hand[2] - self.low > FAR_RISE_MM and (sideways > self.v_fast
-                                                     or self.speed() > 2 * self.v_fast):
+        # adds a sideways component (beyond the middle of Table IV's within range), or (same
+        # target again) a much faster rise. Either must persist: the tracked height jumps
+        # by a centimetre now and then.
+        moving_off = sideways > (self.v_slow + self.v_fast) / 2 or self.speed() > 2 * self.v_fast
+        self.off_frames = self.off_frames + 1 if moving_off else 0
+        if self.hand[2] - self.low > FAR_RISE_MM and self.off_frames >= FAR_FRAMES:
             self.low = None
             return self.hand_detection()
         return None
