@@ -30,7 +30,7 @@ from .vfd_resources import VisionResources, Window
 REPLACE_MM = 120.0  # re-place the tracker when the motion-detector disagrees by more (Sec. V-A)
 
 # Window sizes (px) and the simplified hand structure (mm) the constraints encode.
-PALM_WIN = {"top": (34, 34), "side": (32, 26)}
+PALM_WIN = {"top": (44, 34), "side": (32, 26)}
 FINGER_WIN = (14, 16)
 HOLDER_WIN = (10, 10)
 FINGER_REACH_MM = (15.0, 100.0)  # finger feature distance from the palm feature
@@ -160,17 +160,24 @@ class HandTracker(VFD):
         palm3d = self.triangulate(self.palm["top"].feature, self.palm["side"].feature)
         s = self.cameras["side"].mm_to_px(palm3d)
         pf = self.palm["side"].feature
-        for f in self.fingers:  # offsets point away from the palm (Sec. III-C3)
-            away = f.center - pf
-            n = np.linalg.norm(away)
-            if n > 1e-6:  # half the window, the paper's typical offset length
-                f.offset = f.sign * away / n * (FINGER_WIN[1] / 2.0)
+        for side, f in zip((-1, 1), self.fingers, strict=True):
+            # Offsets point away from the palm (Sec. III-C3). The fingers hang below the
+            # palm, so "away" is down and a little outwards: the window then settles with
+            # the fingertip inside it (Fig. 3(c)). Half the window long, as in the paper.
+            f.offset = f.sign * np.array([side * 0.3, 1.0]) / np.hypot(0.3, 1.0) \
+                * (FINGER_WIN[1] / 2.0)
             if f.step(side_img):
                 f.sign = 1.0
+            else:
+                self._reacquire(f, side, pf, s, side_img)
         self._constrain(pf, s)
         self._measure_holder(side_img)
         # x, y from the stereo palm; height from the fingertips seen from the side.
-        tips = [f.tip for f in self.fingers if f.feature is not None]
+        good = [f for f in self.fingers
+                if f.feature is not None and f.feature[1] > pf[1] + FINGER_REACH_MM[0] * s / 2]
+        tips = [f.tip for f in good]
+        if len(tips) == 2 and abs(tips[0] - tips[1]) > 2:
+            tips = [max(tips)]  # the other one is not at a fingertip: the tips are the lowest
         if tips:
             uv = (self.holder.center[0], float(np.mean(tips)))
             front = palm3d[1] - FINGER_FRONT_MM
@@ -179,10 +186,36 @@ class HandTracker(VFD):
             z = float(self._target[2])
         else:
             z = float(palm3d[2])
-        hx = np.array([palm3d[0], palm3d[1], z])
+        x = palm3d[0]
+        if len(good) == 2:  # the grip centre is midway between the fingers: x from the side
+            mid = (good[0].feature[0] + good[1].feature[0]) / 2.0
+            x = self.cameras["side"].point_on_plane((mid, float(np.mean(tips))), 1,
+                                                    palm3d[1] - FINGER_FRONT_MM)[0]
+        hx = np.array([x, palm3d[1], z])
         self._target = hx
         self._samples.append((frame.t, hx))
         self._found = True
+
+    def _reacquire(self, f: _Tracker, side: int, pf: np.ndarray, s: float,
+                   image: np.ndarray) -> None:
+        """A lost finger looks once along its side below the palm, in a strip as wide as
+        its reach (the window is stretched for one read), then returns to its size."""
+        x_in, x_out = pf[0], pf[0] + side * FINGER_REACH_MM[1] * s
+        y0, y1 = pf[1] + 20.0 * s, pf[1] + 75.0 * s
+        w = f.window
+        w.move_to((x_in + x_out) / 2.0, (y0 + y1) / 2.0, int(abs(x_out - x_in)) + 1,
+                  int(y1 - y0) + 1, f.image_size)
+        mask = band(w.read(image), *HAND_BAND)
+        c = centroid(mask)
+        if c is None or c[2] < MIN_PIXELS:
+            f.place(f.center)  # back to its own size; the reversed offset goes on searching
+            return
+        cols = slice(max(0, int(c[0]) - 4), int(c[0]) + 5)
+        rows = np.nonzero(mask[:, cols].sum(axis=1) >= 2)[0]
+        f.feature = np.array([w.x0 + c[0], w.y0 + c[1]])
+        f.tip = w.y0 + float(rows.max() if len(rows) else c[1])
+        f.sign = 1.0
+        f.place(f.feature)
 
     def _constrain(self, pf: np.ndarray, s: float) -> None:
         """Finger reach and gap, holder midway, palm above and near the holder."""
@@ -202,9 +235,12 @@ class HandTracker(VFD):
         if pts[1][0] - pts[0][0] < gap:
             mid = (pts[0][0] + pts[1][0]) / 2.0
             pts[0][0], pts[1][0] = mid - gap / 2.0, mid + gap / 2.0
-        for f, p in zip(self.fingers, pts, strict=True):
+        for side, f, p in zip((-1, 1), self.fingers, pts, strict=True):
             if f.feature is not None:
+                f.place(f.center + (p - f.feature))  # the window follows its constrained point
                 f.feature = p
+            if side * (f.center[0] - pf[0]) < 1.0:  # a window never crosses under the palm
+                f.place((pf[0] + side * 1.0, f.center[1]))
         holder = (pts[0] + pts[1]) / 2.0
         palm = self.palm["side"]
         c = palm.center.copy()
