@@ -51,8 +51,7 @@ JOIN_MM = 10.0  # :Join while the hand stays within this height of its lowest po
 DESCENT_MM = 30.0  # ... after coming down at least this far since :Near
 SETTLE_FRAMES = 5  # tracked frames after a (re)placement before the velocity is trusted
 FAR_FRAMES = 2  # ... on this many frames in a row
-VELOCITY_FRAMES = 7  # least-squares velocity over this many tracked frames (~0.23 s)
-RECENT_FRAMES = 5  # :Far reads a quicker velocity (less lag at the start of a Transfer)
+VELOCITY_FRAMES = 5  # least-squares velocity over this many tracked frames (~0.17 s)
 SPLIT_MM = 8.0  # :Split once it has risen this much above where it joined
 
 
@@ -190,13 +189,13 @@ class Eyes:
         """Hand moving fast and well above where it worked (the LocalMotion's low point)."""
         if self.hand is None or self.low is None or self.state != "tracking":
             return None
-        v = _slope(list(self.track)[-RECENT_FRAMES:])
+        v = self.velocity
         sideways = float(np.hypot(v[0], v[1]))
         # A depart rises almost vertically at up to about V_H1; leaving for the next target
-        # adds a sideways component (beyond the middle of Table IV's within range), or (same
+        # adds a fast sideways component (beyond V_H1), or (same
         # target again) a much faster rise. Either must persist: the tracked height jumps
         # by a centimetre now and then.
-        moving_off = sideways > (self.v_slow + self.v_fast) / 2 or self.speed() > 2 * self.v_fast
+        moving_off = sideways > self.v_fast or self.speed() > 2 * self.v_fast
         self.off_frames = self.off_frames + 1 if moving_off else 0
         if self.hand[2] - self.low > FAR_RISE_MM and self.off_frames >= FAR_FRAMES:
             self.low = None
