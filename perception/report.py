@@ -15,6 +15,7 @@ from __future__ import annotations
 import base64
 import html
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 import cv2
@@ -181,3 +182,30 @@ def pick_frames(frames: Sequence[tuple[float, np.ndarray]], n: int = 60
         return list(frames)
     idx = np.linspace(0, len(frames) - 1, n).round().astype(int)
     return [frames[i] for i in idx]
+
+
+def truth_of(scenario: Any) -> list[dict[str, Any]]:
+    """The ground-truth operations of a scenario's demonstration, for the timeline."""
+    from .groundtruth import ground_truth
+
+    return [{"operation": t.operation, "t_start": t.t_start, "t_end": t.t_end}
+            for t in ground_truth(scenario)]
+
+
+def run_report(scenario: Any, actions: dict[str, Any], plan: dict[str, Any] | None,
+               plan_text: str | None, execution: Any = None,
+               frames: Sequence[tuple[float, np.ndarray]] = (),
+               video_mp4: bytes | None = None, max_frames: int = 60) -> str:
+    """report.html for one ``lbw run``: ``execution`` is an ExecutionResult or None.
+
+    ``frames`` are (t, image) pairs, e.g. the ones ``perception.overlay``'s
+    ``record_demonstration`` keeps; at most ``max_frames`` are embedded.
+    """
+    text = Path(scenario.file).read_text() if Path(scenario.file).is_file() else \
+        f"# {scenario.name} (no file)"
+    return render_report(
+        title=f"lbw run: {scenario.name}", scenario_text=text, actions=actions,
+        truth=truth_of(scenario), plan=plan, plan_text=plan_text,
+        commands_text=execution.commands_text if execution is not None else None,
+        execution=execution.report if execution is not None else None,
+        frames=pick_frames(frames, max_frames), video_mp4=video_mp4)

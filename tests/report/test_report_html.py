@@ -117,3 +117,39 @@ def test_timeline_rows():
     assert [g.get("class") for g in groups] == ["op truth"] * 2 + ["op recognized"] * 2
     bar = groups[1].find("{http://www.w3.org/2000/svg}rect")
     assert float(bar.get("width")) == pytest.approx(3.0 * 8.0)  # 3 s at 8 px/s
+
+
+def test_run_report_of_a_real_run(tmp_path):
+    """watch (with the monitor) → analyze → execute (recorded) → report.html, in Chromium."""
+    from lbw_engine.actions import to_actions
+    from lbw_engine.analysis import RelationTable, analyze, load_rules, parse_actions
+    from lbw_engine.cli.execute import execute_plan
+    from lbw_engine.execution import commandrules
+    from lbw_engine.execution import plan as planmod
+    from lbw_engine.paths import default_rules_dir
+    from lbw_engine.rules import load_rules as load_recognition_rules
+    from perception.generator import generate
+    from perception.overlay import ExecutionRecorder, record_demonstration
+    from perception.report import run_report
+
+    sc = generate(5, structures=["tower"]).scenario()
+    rec, _, kept = record_demonstration(sc, load_recognition_rules(), None, keep_every=3.0,
+                                        scale=1)
+    actions = to_actions(rec)
+    arules = load_rules()
+    plan = analyze(parse_actions(actions, RelationTable(arules.tolerance)), arules).plan
+    recorder = ExecutionRecorder(None, every=10, keep_every=5.0, scale=1)
+    result = execute_plan(planmod.parse(plan, file="plan.json"), sc,
+                          commandrules.load_dir(default_rules_dir()), on_step=recorder)
+    html = run_report(sc, actions, plan, write_plan_text(plan), result,
+                      frames=kept + recorder.kept)
+    path = tmp_path / "report.html"
+    path.write_text(html)
+    assert html.count('class="frame"') == min(60, len(kept) + len(recorder.kept))
+    _need_chromium()
+    dom, console = _open(path, tmp_path)
+    assert console == [] and 'data-ready="yes"' in dom
+    assert len(re.findall(r'class="op recognized"', dom)) == len(actions["operations"])
+    assert ('class="ok"' in dom.split('id="verification"')[1]) == result.success
+    for name in plan["operators"]:
+        assert f'id="op-{name}"' in dom, name
