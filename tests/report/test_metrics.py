@@ -1,0 +1,100 @@
+"""Benchmark scoring: sequence alignment, timing errors, plan vs. true final relations."""
+
+import json
+
+import pytest
+
+from lbw_engine.cli import main
+from lbw_engine.report.metrics import (
+    align,
+    collapse_tail,
+    compare_sequence,
+    first_difference,
+    percentile,
+    plan_final_relations,
+    summarize,
+)
+
+
+def ops(*spec):
+    """[(name, t0, t1), ...] -> operation dicts."""
+    return [{"operation": n, "t_start": a, "t_end": b} for n, a, b in spec]
+
+
+@pytest.mark.parametrize("expected,got,dist", [
+    ("ABC", "ABC", 0), ("ABC", "AC", 1), ("ABC", "ABXC", 1), ("ABC", "XBC", 1), ("", "AB", 2),
+    ("ABCD", "BADC", 3),
+], ids=["same", "deletion", "insertion", "substitution", "empty", "swaps"])
+def test_edit_distance(expected, got, dist):
+    d, pairs = align(list(expected), list(got))
+    assert d == dist
+    assert all(expected[i] == got[j] for i, j in pairs)
+    assert len(pairs) >= max(len(expected), len(got)) - dist
+
+
+def test_trailing_repeats_count_once():
+    merged = collapse_tail(ops(("A", 0, 1), ("W", 1, 2), ("W", 2, 3)))
+    assert [o["operation"] for o in merged] == ["A", "W"]
+    assert (merged[-1]["t_start"], merged[-1]["t_end"]) == (1, 3)
+    assert collapse_tail(ops(("W", 0, 1), ("A", 1, 2))) == ops(("W", 0, 1), ("A", 1, 2))
+
+
+def test_compare_sequence_timing_errors_of_matched_operations():
+    truth = ops(("A", 0.0, 1.0), ("B", 1.0, 2.0), ("W", 2.0, 3.0))
+    got = ops(("A", 0.1, 1.2), ("X", 1.2, 1.5), ("B", 1.5, 2.0), ("W", 2.0, 2.5), ("W", 2.5, 3.5))
+    c = compare_sequence(truth, got)
+    assert not c["exact"] and c["edit_distance"] == 1
+    assert c["accuracy"] == pytest.approx(2 / 3)
+    assert sorted(round(e, 3) for e in c["timing_errors"]) == [0.0, 0.0, 0.1, 0.2, 0.5, 0.5]
+    assert c["difference"] == "at #1: expected B, got X"
+
+
+def test_first_difference_lengths():
+    assert first_difference(["A", "B"], ["A"]) == "at #1: missing B (1 operations instead of 2)"
+    assert first_difference(["A"], ["A", "C"]) == "at #1: extra C (2 operations instead of 1)"
+
+
+def test_plan_final_relations_from_the_root_sc_plus():
+    plan = {"root": "b", "operators": {"b": {"sc_plus": [
+        ["on", "x", "table", {"at": [0, 0, 0], "wrt": "table"}],
+        ["on-multiple", "p", ["y", "x"], {"at": [1, 1, 1], "wrt": "table"}],
+        ["holding", "hand", "x"]]}}}
+    assert plan_final_relations(plan, {"x": "leg1"}) == {
+        ("leg1", ("table",)), ("p", ("leg1", "y"))}
+
+
+def test_percentile():
+    assert percentile([], 50) is None
+    assert percentile([3, 1, 2], 50) == 2
+    assert percentile(list(range(101)), 95) == pytest.approx(95)
+
+
+def test_summarize_counts_crashes_as_failures():
+    good = {"level": "a", "exact": True, "accuracy": 1.0, "timing_errors": [0.1, 0.3],
+            "plan_correct": True, "execution_success": False, "demo_seconds": 100.0,
+            "watch_seconds": 4.0, "total_seconds": 5.0, "pixels_per_frame": 1000.0}
+    s = summarize([good, {"level": "a", "error": "boom"}], ["a", "b"])
+    assert list(s) == ["a"]
+    assert s["a"]["exact_sequence_rate"] == 0.5 and s["a"]["crashed"] == 1
+    assert s["a"]["execution_success_rate"] == 0.0
+    assert s["a"]["realtime_factor_watch"] == 25.0
+    assert s["a"]["timing_error_median_s"] == pytest.approx(0.2)
+
+
+def test_lbw_bench_command(tmp_path, capsys):
+    out = tmp_path / "bench.json"
+    assert main(["bench", "--count", "1", "--seed", "0", "--jobs", "1", "--out", str(out)]) == 0
+    doc = json.loads(out.read_text())
+    assert doc["count"] == 1 and len(doc["scenarios"]) == 1
+    rec = doc["scenarios"][0]
+    assert rec["seed"] == 0 and rec["level"] == "nominal" and "exact" in rec
+    assert set(doc["summary"]) == {"nominal"}
+    printed = capsys.readouterr().out
+    assert "exact" in printed and "nominal" in printed
+    assert len(doc["failures"]) == (0 if rec["exact"] and rec["plan_correct"] and
+                                    rec["execution_success"] else 1)
+
+
+def test_lbw_bench_rejects_bad_counts(capsys):
+    assert main(["bench", "--count", "0"]) == 2
+    assert "--count" in capsys.readouterr().err
