@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 
 from .camera import Camera, triangulate
@@ -57,6 +58,18 @@ class Region3D:
         d = np.array([dx, dy, dz])
         return Region3D(tuple((np.asarray(self.lo) + d).tolist()),
                         tuple((np.asarray(self.hi) + d).tolist()))
+
+
+def region_mask(cam: Camera, region: Region3D, window: Window) -> np.ndarray:
+    """Boolean mask of the window's pixels that lie inside the region's projected outline."""
+    lo, hi = region.lo, region.hi
+    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                        for z in (lo[2], hi[2])])
+    uv = cam.project(corners) - (window.x0, window.y0)
+    hull = cv2.convexHull(np.rint(uv * 16).astype(np.int32))
+    mask = np.zeros((window.y1 - window.y0, window.x1 - window.x0), np.uint8)
+    cv2.fillConvexPoly(mask, hull, 1, cv2.LINE_8, 4)
+    return mask[::window.step, ::window.step] > 0
 
 
 def band(img: np.ndarray, lo: int, hi: int) -> np.ndarray:

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .frames import Frame
-from .vfd import BLOCK_MIN, VFD, Region3D, centroid
+from .vfd import BLOCK_MIN, VFD, Region3D, centroid, region_mask
 
 DEFAULT_REGION = (50.0, 50.0, 45.0)  # mm, footnote 6
 CYCLE_LIMIT = 4  # footnote 10
@@ -30,6 +30,7 @@ class SilFinder(VFD):
     """Centre of mass of block silhouette pixels inside the attention region's windows."""
 
     min_area = MIN_AREA
+    stereo = False  # whether the last silhouette was confirmed by both views
 
     def process(self, frame: Frame) -> None:
         """Look for a silhouette in the windows of the current region."""
@@ -37,23 +38,35 @@ class SilFinder(VFD):
         if pos is not None:
             self._target, self._found = pos, True
 
-    def look(self, frame: Frame) -> np.ndarray | None:
-        """3-D position of the silhouette in the region on ``frame``, or None."""
+    def look(self, frame: Frame, exclude: Sequence[Region3D] = ()) -> np.ndarray | None:
+        """3-D position of the silhouette inside the region on ``frame``, or None.
+
+        Only pixels inside the region's projected outline count; the outlines of
+        the ``exclude`` boxes (the held object, known to the environment model)
+        are left out, since from both cameras it hangs over the place searched.
+        """
         pts = {}
         for view in ("top", "side"):
             (w,) = self.windows[view]
+            cam = self.cameras[view]
             sub = w.read(frame.view(view))
-            c = centroid(sub >= BLOCK_MIN)
-            if c is not None and c[2] >= self.min_area * sub.size:
+            inside = region_mask(cam, self.region, w)
+            for box in exclude:
+                inside &= ~region_mask(cam, box, w)
+            c = centroid((sub >= BLOCK_MIN) & inside)
+            if c is not None and c[2] >= self.min_area * max(1, int(inside.sum())):
                 pts[view] = (w.x0 + c[0], w.y0 + c[1])
+        self.stereo = False
         if "side" not in pts:
             return None  # from above, the hand hides what lies under it: the side view decides
         if "top" in pts:
             p = self.triangulate(pts["top"], pts["side"])
             if np.all(p >= np.asarray(self.region.lo) - 30) and \
                     np.all(p <= np.asarray(self.region.hi) + 30):
+                self.stereo = True
                 return p
-        # Monocular fallback: the side view line at the region's depth.
+        # Monocular fallback: the side view line at the region's depth (a block in front
+        # of or behind the region can answer; the environment model must confirm it).
         return self.cameras["side"].point_on_plane(pts["side"], 1, float(self.region.center[1]))
 
 
@@ -65,6 +78,7 @@ class SearchResult:
     position: np.ndarray | None
     cycles: int
     regions: list[Region3D] = field(default_factory=list)
+    stereo: bool = False  # seen in both views (else the side view alone, at the region depth)
 
 
 def search_start(hand: Sequence[float], held_size: Sequence[float] | None = None) -> Region3D:
@@ -85,14 +99,15 @@ def visual_search(finder: SilFinder, frame: Frame, hand: Sequence[float],
     to_table = max(0, math.ceil(start.lo[2] / step))
     cycles = min(to_table, limit)
     first = 1 if held_size is not None else 0  # the held object itself is not a target
+    held = [start.shifted(dz=2.0)] if held_size is not None else []  # a little taller
     regions = []
     for k in range(first, cycles + 1):
         region = start.shifted(dz=-k * step)
         regions.append(region)
         finder.attention(region)
-        pos = finder.look(frame)
+        pos = finder.look(frame, held)
         if pos is not None:
-            return SearchResult(True, pos, k, regions)
+            return SearchResult(True, pos, k, regions, finder.stereo)
     return SearchResult(False, None, cycles, regions)
 
 

@@ -112,3 +112,21 @@ def test_snapshots_are_values_that_can_be_judged_later():
     cd.attention(Region3D.around((0, 100, 25), (35, 35, 55)))
     with pytest.raises(ValueError):
         cd.judge(first, cd.take(film.shoot(OTHERS)))
+
+
+def test_visual_search_with_a_held_block_over_the_bare_table_finds_nothing():
+    film, res = Film(), VisionResources()
+    frame = film.shoot([block(T[0], T[1], BRICK, 30), *hand(T[0], T[1], 55, 32)])
+    r = visual_search(SilFinder(CAMS, res), frame, (T[0], T[1], 55), held_size=BRICK,
+                      held_center=(T[0], T[1], 55))
+    assert not r.found  # the held block itself, hanging over the place, is not a target
+
+
+def test_visual_search_under_the_hand_relies_on_the_side_view():
+    # From above, the palm covers the default region (it has the hand's size), so the
+    # silhouette is located on the side view line at the region's depth (not stereo).
+    film, res = Film(), VisionResources()
+    frame = film.shoot([block(*T), *hand(T[0], T[1], 90)])
+    r = visual_search(SilFinder(CAMS, res), frame, (T[0], T[1], 90))
+    assert r.found and r.stereo is False and r.cycles == 1
+    assert dist(r.position[:2], T) < 10 and 0 < r.position[2] < 50
