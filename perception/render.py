@@ -271,6 +271,8 @@ class Renderer:
     def _prepare(self, boxes: list[Box]) -> list[_Drawn]:
         """Project a batch of boxes into every camera and keep their visible faces."""
         n = len(boxes)
+        if n == 0:
+            return []
         # A resting body's angle of 1e-12 rad is no tilt (the fast path stays exact to 1 um).
         rows = np.array([(*b.center, *b.size, b.angle if abs(b.angle) > _FLAT_ANGLE else 0.0)
                          for b in boxes], float)
