@@ -24,6 +24,9 @@ from .vfd import DARK_MAX, VFD
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
 MIN_FACE_PX = 6
+STACK_MISMATCH_MM = 8.0  # a column this far from every shape may be a stack of two
+CREASE_MAX = 110  # crease lines are drawn at 60, faces at 170 and brighter
+FRONT_BAND = (150, 190)  # faces facing -y (the side camera) are drawn at 170
 
 
 @dataclass(frozen=True)
@@ -66,20 +69,110 @@ class ObjectFinder(VFD):
                 height, score = self._height_from_silhouette(rect, blobs, blob_areas)
             if score < 0.25:
                 continue
-            boxes.append((height, self._footprint(rect, height)))
+            boxes.append((height, self._footprint(rect, height), rect))
+        # A top face that frames another one (a ring around it from above) belongs to a
+        # block under it, so it must be lower. A narrow ring is hardly seen from the side
+        # and may come out as high as the column it frames: its block is then measured
+        # with that column (the seam in the side view gives its height).
+        rings: dict[int, tuple] = {}
+        for i, (h_out, _, outer) in enumerate(boxes):
+            for j, (h_in, _, inner) in enumerate(boxes):
+                if i != j and _frames(outer, inner) and h_out >= h_in - 3.0:
+                    rings[j] = outer
+        framing = {i for i, b in enumerate(boxes) if b[2] in rings.values()}
         found = []
-        for height, (x0, y0, x1, y1) in boxes:
+        for k, (height, (x0, y0, x1, y1), _) in enumerate(boxes):
+            if k in framing:
+                continue
             cx, cy = (x0 + x1) / 2.0, (y0 + y1) / 2.0
-            below = [h for h, (a0, b0, a1, b1) in boxes
-                     if h < height - 3.0 and a0 <= cx <= a1 and b0 <= cy <= b1]
+            below = [h for i, (h, (a0, b0, a1, b1), _) in enumerate(boxes) if i not in framing
+                     and h < height - 3.0 and a0 <= cx <= a1 and b0 <= cy <= b1]
             base = max(below, default=0.0)
             size = np.array([x1 - x0, y1 - y0, height - base])
             name, mismatch = _nearest(shapes, size)
-            found.append(FoundObject(name, (float(cx), float(cy), float(base + size[2] / 2.0)),
-                                     tuple(size.tolist()), mismatch))
+            single = FoundObject(name, (float(cx), float(cy), float(base + size[2] / 2.0)),
+                                 tuple(size.tolist()), mismatch)
+            stack = self._hidden_stack(single, base, y0, side_img, shapes, rings.get(k))
+            found.extend(stack or [single])
         self._found = bool(found)
         self._target = np.array([f.position for f in found]) if found else None
         return found
+
+    def _hidden_stack(self, obj: FoundObject, base: float, front: float, side: np.ndarray,
+                      shapes: Mapping[str, Sequence[float]], ring=None
+                      ) -> list[FoundObject] | None:
+        """Two stacked blocks where the top view shows at most a thin ring of the lower one.
+
+        The column under the top face is then too tall for any shape. The side view
+        shows a crease line across the front at the seam; the lower block's width
+        comes from its front face there (or from the ring's outline), and the shape
+        database gives the pair that explains the column best.
+        """
+        sx, sy, sz = obj.size
+        if (obj.mismatch < STACK_MISMATCH_MM and ring is None) or not shapes:
+            return None
+        cam = self.cameras["side"]
+        cx, cy = obj.position[:2]
+        best = None
+        for top_name, (tx, ty, tz) in shapes.items():
+            if abs(tx - sx) + abs(ty - sy) > STACK_MISMATCH_MM:
+                continue
+            rest = sz - tz
+            seam = base + rest
+            if rest < 5.0 or not self._crease_at(cam, side, (cx, front, seam)):
+                continue
+            if ring is not None:  # the lower block's outline is the ring's
+                f0, g0, f1, g1 = self._footprint(ring, seam)
+                low_size = np.array([f1 - f0, g1 - g0, rest])
+                low_name, low_err = _nearest(shapes, low_size)
+                low_at = ((f0 + f1) / 2.0, (g0 + g1) / 2.0)
+            else:
+                width = self._width_at(cam, side, (cx, front, base + rest / 2.0))
+                if width is None:
+                    continue
+                fits = {n: abs(lx - width) + abs(lz - rest)
+                        for n, (lx, ly, lz) in shapes.items()
+                        if lx <= sx + 8.0 and ly <= sy + 8.0}  # wider: its top would show
+                if not fits:
+                    continue
+                low_name = min(fits, key=fits.get)
+                low_err = fits[low_name]
+                low_size = np.array([width, shapes[low_name][1], rest])
+                low_at = (cx, cy)
+            err = abs(tx - sx) + abs(ty - sy) + low_err
+            if best is None or err < best[0]:
+                best = (err, top_name, tz, low_name, low_size, low_at, seam)
+        if best is None or (ring is None and best[0] >= obj.mismatch):
+            return None
+        err, top_name, tz, low_name, low_size, low_at, seam = best
+        return [FoundObject(low_name, (float(low_at[0]), float(low_at[1]), base + low_size[2] / 2),
+                            tuple(float(v) for v in low_size), err),
+                FoundObject(top_name, (cx, cy, seam + tz / 2.0), (sx, sy, base + sz - seam), err)]
+
+    @staticmethod
+    def _crease_at(cam, side: np.ndarray, point) -> bool:
+        """Whether the side view has a crease line (a seam) at ``point``, within a pixel."""
+        u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
+        column = side[max(0, v - 1):v + 2, u]
+        return bool(((column > DARK_MAX) & (column <= CREASE_MAX)).any())
+
+    @staticmethod
+    def _width_at(cam, side: np.ndarray, point) -> float | None:
+        """Width (mm) of the front face (-y, drawn at 170) through ``point``, on y = point.
+
+        Its edges run through the crease pixels that bound the run of face pixels."""
+        u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
+        row = (side[v] >= FRONT_BAND[0]) & (side[v] <= FRONT_BAND[1])
+        if not row[u]:
+            return None
+        left, right = u, u
+        while left > 0 and row[left - 1]:
+            left -= 1
+        while right + 1 < len(row) and row[right + 1]:
+            right += 1
+        ends = [cam.point_on_plane((x, float(v)), 1, point[1])[0]
+                for x in (left - 1.0, right + 1.0)]
+        return float(ends[1] - ends[0])
 
     def _top_faces(self, top: np.ndarray) -> list[tuple[float, float, float, float]]:
         """Top faces in the top view: their pixel rectangles (x0, y0, x1, y1)."""
@@ -205,6 +298,14 @@ class ObjectFinder(VFD):
         n = int(inside.sum())
         return float(solid[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][inside].sum()) / n \
             if n else 0.0
+
+
+def _frames(outer, inner, tol: float = 1.5) -> bool:
+    """Whether pixel rectangle ``outer`` encloses ``inner`` (and is larger)."""
+    area = (outer[2] - outer[0]) * (outer[3] - outer[1])
+    return (outer[0] <= inner[0] + tol and outer[1] <= inner[1] + tol and
+            outer[2] >= inner[2] - tol and outer[3] >= inner[3] - tol and
+            area > (inner[2] - inner[0]) * (inner[3] - inner[1]))
 
 
 def _nearest(shapes: Mapping[str, Sequence[float]], size: np.ndarray) -> tuple[str, float]:

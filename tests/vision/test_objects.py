@@ -28,13 +28,19 @@ def _layout(name):
     if name == "thin-top-hidden":  # the back beam's top face is too thin to see from the side
         return [("beam", block(-162, 153, b["beam"])), ("beam", block(-212, 355, b["beam"])),
                 ("beam", block(-234, 252, b["beam"])), ("brick", block(184, 202, b["brick"]))]
+    if name == "brick-on-brick":  # the lower top face is hidden: the side view's seam tells
+        return [("brick", block(0, 200, b["brick"])), ("brick", block(0, 200, b["brick"], 50))]
+    if name == "cube-on-brick":
+        return [("brick", block(-150, 300, b["brick"])), ("cube", block(-150, 300, b["cube"], 50)),
+                ("plate", block(150, 100, b["plate"]))]
     if name == "stack":  # a brick resting on a plate
         return [("plate", block(100, 200, b["plate"])), ("brick", block(110, 190, b["brick"], 10)),
                 ("cube", block(-150, 150, b["cube"]))]
     raise KeyError(name)
 
 
-LAYOUTS = ["apart", "corners", "tall-behind-low", "thin-top-hidden", "stack"]
+LAYOUTS = ["apart", "corners", "tall-behind-low", "thin-top-hidden", "stack", "brick-on-brick",
+           "cube-on-brick"]
 
 
 @pytest.mark.parametrize("layout", LAYOUTS)
