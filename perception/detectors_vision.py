@@ -185,11 +185,12 @@ class ChangeNode:
             elif before <= EMPTY and after >= HOLDING:
                 result = DISAPPEARED
         if result == APPEARED and self.eyes.release is not None:
-            # The block is set down centred between the fingers; the top view of it is
-            # hidden by the hand, so x, y come from the hand at the release (Sec. V-B4).
-            rel = self.eyes.release + self.eyes.grip
-            z = float(pos[2]) if pos is not None else float(rel[2])
-            pos = np.array([rel[0], rel[1], z])
+            # The side camera looks along +y: it fixes x (and z) of the changed area well but
+            # not its depth; the top view of the spot is hidden by the hand. The block was set
+            # down centred between the fingers, so y comes from the hand at the release.
+            rel = self.eyes.release
+            x, z = (float(pos[0]), float(pos[2])) if pos is not None else (rel[0], rel[2])
+            pos = np.array([x, rel[1], z])
         return Detection(value=SIL_DIFF[result],
                          position=tuple(float(c) for c in pos) if pos is not None else None)
 
