@@ -226,6 +226,7 @@ class ObjectFinder(VFD):
         cam = self.cameras["side"]
 
         def score(h: float) -> float:
+            """IoU with the best side top face, times the solid fraction below."""
             x0, y0, x1, y1 = self._footprint(rect, h)
             quad = np.array([[x0, y0, h], [x1, y0, h], [x1, y1, h], [x0, y1, h]])
             uv = cam.project(quad)
@@ -257,6 +258,7 @@ class ObjectFinder(VFD):
         """Height whose box [footprint] x [0, h] best covers a side-view silhouette (IoU)."""
 
         def score(h: float) -> float:
+            """IoU of the column's side image with the silhouette it overlaps most."""
             hull = self._column_hull(rect, h, blobs.shape)
             if hull is None:
                 return 0.0

@@ -19,6 +19,7 @@ def _pair(x, y, dy, dx=0.0):
 
 
 def _region(box):
+    """The 3-D region a box occupies (what the environment model would pass)."""
     return Region3D.around(box.center, box.size)
 
 

@@ -13,6 +13,7 @@ SHAPES = {"brick": [30, 30, 50], "plate": [120, 100, 10], "cube": [40, 40, 40],
 
 
 def _layout(name):
+    """A named test layout: (shape, Box) pairs."""
     b = {"brick": (30, 30, 50), "plate": (120, 100, 10), "cube": (40, 40, 40),
          "beam": (100, 20, 20)}
     if name == "apart":

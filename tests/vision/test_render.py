@@ -26,11 +26,13 @@ class StubWorld:
 
 
 def _px(name, p):
+    """(row, col) of world point p in view ``name``."""
     u, v = CAMS[name].project(np.array(p, float))[0]
     return int(round(v)), int(round(u))
 
 
 def _clean(scene):
+    """Noise-free images of a scene, rendered from scratch."""
     return Renderer(CAMS, pixel_noise=0.0).render_clean(scene)
 
 
@@ -85,6 +87,7 @@ def test_positive_angle_raises_the_plus_x_end():
 
 
 def _moving_hand_recording(n=40):
+    """Scenes of a hand passing over and behind blocks, picking one up on the way."""
     blocks = [Box("block", (-150, 200, 25), (30, 30, 50)),
               Box("block", (100, 120, 5), (120, 100, 10)),
               Box("block", (100, 120, 35), (30, 30, 50)), Box("block", (0, 60, 40), (40, 30, 80))]

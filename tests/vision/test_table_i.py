@@ -15,11 +15,13 @@ EMPTY = Region3D.around((-200.0, 300.0, 25.0), (40.0, 40.0, 55.0))
 
 
 def _frames(n=6):
+    """``n`` noisy frames of a brick on the table."""
     film = Film()
     return [film.shoot([block(*BRICK_AT)]) for _ in range(n)]
 
 
 def _row_attention():
+    """attention: the 3-D region is projected into one window per view."""
     res = VisionResources()
     sf = SilFinder(CAMS, res)
     sf.attention(REGION)
@@ -32,6 +34,7 @@ def _row_attention():
 
 
 def _row_srate():
+    """srate: only every n-th frame is processed."""
     sf = SilFinder(CAMS, VisionResources())
     sf.attention(REGION)
     sf.srate(3)
@@ -44,6 +47,7 @@ def _row_srate():
 
 
 def _row_start():
+    """start: nothing is detected before it."""
     sf = SilFinder(CAMS, VisionResources())
     sf.attention(REGION)
     frames = _frames(2)
@@ -55,6 +59,7 @@ def _row_start():
 
 
 def _row_stop():
+    """stop: nothing is detected after it."""
     sf = SilFinder(CAMS, VisionResources())
     sf.attention(REGION)
     sf.start()
@@ -64,6 +69,7 @@ def _row_stop():
 
 
 def _row_found():
+    """found: true once per detection (since the last query)."""
     sf = SilFinder(CAMS, VisionResources())
     sf.start()
     sf.attention(EMPTY)
@@ -75,6 +81,7 @@ def _row_found():
 
 
 def _row_target():
+    """target: the 3-D position of what was found."""
     sf = SilFinder(CAMS, VisionResources())
     sf.attention(REGION)
     sf.start()
@@ -83,6 +90,7 @@ def _row_target():
 
 
 def _row_reset():
+    """reset: the detected state is cleared."""
     sf = SilFinder(CAMS, VisionResources())
     sf.attention(REGION)
     sf.start()
@@ -92,6 +100,7 @@ def _row_reset():
 
 
 def _row_free():
+    """free: the windows go back to the resource manager."""
     res = VisionResources()
     sf = SilFinder(CAMS, res)
     sf.attention(REGION)
