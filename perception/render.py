@@ -17,7 +17,7 @@ from collections.abc import Mapping, Sequence
 import cv2
 import numpy as np
 
-from .camera import Camera  # noqa: F401  (type hints)
+from .camera import Camera
 from .scene import Box
 
 # Gray levels (documented in docs/vision.md; detectors key their thresholds on them).
