@@ -63,6 +63,12 @@ class State:
     relations: list[Relation]
     positions: dict[str, Vec3]
 
+    def restricted(self, names: Iterable[str]) -> State:
+        """The part of this copy that concerns ``names`` (relations by subject)."""
+        keep = set(names)
+        return State([r for r in self.relations if r.subject in keep],
+                     {n: p for n, p in self.positions.items() if n in keep})
+
     def to_json(self) -> dict[str, Any]:
         """The actions.json form of a state."""
         return {
@@ -271,6 +277,29 @@ class EnvModel:
                 if hand is not None and hand.position is not None and pos is not None:
                     self.followers[moving] = _sub(pos, hand.position)
 
+    def _clear_of_neighbours(self, node: EnvNode, at: Vec3, ignore: set[str]) -> Vec3:
+        """``at`` moved out of any block it overlaps sideways by a measurement error."""
+        if node.size is None:
+            return at
+        clearance = float(self.rules.constants["place-clearance"])
+        limit = float(self.rules.constants["place-overlap-limit"])
+        pos = list(at)
+        for other in self.nodes.values():
+            if other.name in ignore or other.name == node.name or other.kind != node.kind:
+                continue
+            if other.position is None or other.size is None or other.name in self.followers:
+                continue
+            pen = [(node.size[i] + other.size[i]) / 2 - abs(pos[i] - other.position[i])
+                   for i in range(3)]
+            if min(pen) <= 0:
+                continue  # apart along some axis
+            axis = 0 if pen[0] <= pen[1] else 1
+            if pen[axis] > limit:
+                continue  # not a measurement error: leave it for the physics to show
+            away = 1.0 if pos[axis] >= other.position[axis] else -1.0
+            pos[axis] += away * (pen[axis] + clearance)
+        return (pos[0], pos[1], pos[2])
+
     def _place(self, objects, supports, point: Vec3 | None) -> None:
         """Put the object at the measured point, its height from the supports' tops."""
         tops = [self.nodes[s].top() for s in supports if s in self.nodes]
@@ -283,7 +312,8 @@ class EnvModel:
             x, y = (point[0], point[1]) if point is not None else (old[0], old[1])
             height = node.size[2] if node.size else 0.0
             z = (max(tops) if tops else 0.0) + height / 2.0
-            node.position = (float(x), float(y), float(z))
+            node.position = self._clear_of_neighbours(node, (float(x), float(y), float(z)),
+                                                      set(supports) | set(riders))
             delta = _sub(node.position, old)
             for rider in riders:
                 p = self.nodes[rider].position

@@ -189,7 +189,10 @@ class Recognizer:
             parent.subnode = node
         if self.rules.motions[motion].root:
             self.root = node
-        node.initial_state = self.env.snapshot(node.nodes())
+        # Copy every node now: some motions learn their target only as they end, and
+        # IS and FS must describe the same ENV-nodes (Table VI), so the copy is
+        # cut down to the node's final base/target/special in _terminate.
+        node.initial_state = self.env.snapshot(self.env.nodes)
         for name in self.rules.snapshot_detectors(motion):
             node.snapshots[name] = self.registry[name].snapshot(node.view(self.t), self.env)
         # Automatic :reset of the new node's level with its :Init redirections (Sec. IV-B3).
@@ -216,5 +219,7 @@ class Recognizer:
             self.env.apply_effect(self.rules.effects[node.operation], binds, node.measured)
         node.final_event, node.t_end = event, self.t
         node.final_state = self.env.snapshot(node.nodes())
+        if node.initial_state is not None:
+            node.initial_state = node.initial_state.restricted(node.nodes())
         if node.parent is not None:
             node.parent.history.append(node)
