@@ -342,6 +342,8 @@ def _constants(directory: Path) -> dict[str, Any]:
             "repositioning-distance",
             "motion-detector-interval",
             "detect-passes-per-frame",
+            "place-clearance",
+            "place-overlap-limit",
         ),
     )
     region = reader.sequence(data["attention-region"], "attention-region", data, "attention-region")
@@ -353,6 +355,9 @@ def _constants(directory: Path) -> dict[str, Any]:
     for key in ("repositioning-distance", "motion-detector-interval"):
         if reader.number(data, key, "constant") <= 0:
             reader.fail(f"{key} must be positive", data, key)
+    for key in ("place-clearance", "place-overlap-limit"):
+        if reader.number(data, key, "constant") < 0:
+            reader.fail(f"{key} must be zero or more", data, key)
     return {k: (tuple(v) if isinstance(v, list) else v) for k, v in data.items()}
 
 
