@@ -31,14 +31,6 @@ def test_recognize_writes_actions_json(tmp_path, capsys):
     assert "21 operations" in capsys.readouterr().out
 
 
-def test_demo_prints_fig20(capsys):
-    assert main(["demo"]) == 0
-    out = capsys.readouterr().out
-    assert "21 operations" in out
-    assert "reach pick reach-with-obj place-on-block" in out
-    assert "on-multiple" in out and "co-support" in out
-
-
 BAD = [  # (case id, trace text or None for a missing file, message fragment, line)
     ("missing-file", None, "trace file not found", None),
     ("no-header", '{"t": 0, "event": "near"}\n', "first line must be the header", 1),

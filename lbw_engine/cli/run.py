@@ -1,0 +1,144 @@
+"""``lbw run SCENARIO [--out DIR] [--rules DIR]``: see, understand and do, end to end.
+
+watch (demonstrator → cameras → detectors → recognizer, Sec. III–V) →
+analyze (templates, state changes, dependency closures, Sec. VI) →
+execute (matching, Table IX commands, robot, verification, Sec. VII).
+Writes actions.json, plan.json, plan.txt, commands.txt and execution.json.
+Exit 0 only when the execution verified (or, for a scenario without an
+``execute`` workspace, when a plan was learned); 1 when a phase failed; 2 on
+bad input. ``pipeline()`` is the reusable core (demo, bench and report use it).
+
+The ground truth is consulted only *after* recognition, to report how the
+recognized sequence compares with what the demonstrator did (evaluation).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..actions import to_actions
+from ..analysis import RelationTable, analyze, parse_actions, write_plan_text
+from ..analysis import load_rules as load_analysis_rules
+from ..errors import InputError
+from ..execution import commandrules
+from ..execution import plan as planmod
+from ..outputs import OutputDir
+from ..rules import load_rules
+from .watch import watch
+
+HELP = "watch a demonstration, learn its plan, execute it in the new layout and verify"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """SCENARIO, --out, --rules."""
+    parser.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
+    parser.add_argument("--out", metavar="DIR", default="out", help="output folder (out)")
+    parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
+
+
+@dataclass
+class RunResult:
+    """Everything one end-to-end run produced, phase by phase."""
+
+    scenario: Any
+    actions: dict[str, Any]
+    recognition: dict[str, Any]
+    plan: dict[str, Any] | None = None
+    plan_text: str | None = None
+    execution: Any = None  # lbw_engine.cli.execute.ExecutionResult
+    failure: str | None = None  # first phase that failed, with why
+    seconds: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def success(self) -> bool:
+        """A plan was learned and, where there is an execute workspace, it verified."""
+        if self.failure or self.plan is None:
+            return False
+        return self.execution is None or bool(self.execution.success)
+
+    def report(self) -> dict[str, Any]:
+        """execution.json: the verdict of the whole run."""
+        out: dict[str, Any] = {"success": self.success}
+        if self.failure:
+            out["failure"] = self.failure
+        if self.execution is not None:
+            out.update({k: v for k, v in self.execution.report.items() if k != "success"})
+        out["recognition"] = self.recognition
+        out["seconds"] = {k: round(v, 3) for k, v in self.seconds.items()}
+        return out
+
+
+def compare_with_truth(scenario: Any, actions: dict[str, Any]) -> dict[str, Any]:
+    """The recognized top-level sequence against the ground truth (evaluation only)."""
+    from perception.groundtruth import expected_operations
+
+    expected = list(expected_operations(scenario))
+    recognized = [op["operation"] for op in actions["operations"]]
+    return {"expected": expected, "recognized": recognized, "exact": expected == recognized}
+
+
+def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30.0) -> RunResult:
+    """Run watch → analyze → execute on a loaded scenario; never raises for a failed task."""
+    from .execute import execute_plan
+
+    rules = load_rules(rules_dir)
+    arules = load_analysis_rules(rules.directory)
+    crules = commandrules.load_dir(rules.directory)
+    clock = time.perf_counter()
+    recognizer, _ = watch(scenario, rules, fps=fps)
+    actions = to_actions(recognizer)
+    result = RunResult(scenario, actions, compare_with_truth(scenario, actions))
+    result.seconds["watch"] = time.perf_counter() - clock
+    clock = time.perf_counter()
+    try:  # the recognizer's own output: a template mismatch is a failed task, not bad input
+        seq = parse_actions(actions, RelationTable(arules.tolerance), file="actions.json")
+        analysis = analyze(seq, arules)
+    except InputError as exc:
+        result.failure = f"analysis: {exc}"
+        return result
+    result.plan = analysis.plan
+    result.plan_text = write_plan_text(analysis.plan)
+    result.seconds["analyze"] = time.perf_counter() - clock
+    if scenario.execute is not None:
+        clock = time.perf_counter()
+        plan = planmod.parse(analysis.plan, file="plan.json")
+        result.execution = execute_plan(plan, scenario, crules)
+        result.seconds["execute"] = time.perf_counter() - clock
+        if not result.execution.success:
+            result.failure = f"execution: {result.execution.message}"
+    return result
+
+
+def publish(result: RunResult, out: OutputDir) -> None:
+    """Stage the run's files (design.md: actions, plan, plan text, commands, verdict)."""
+    out.write_json("actions.json", result.actions)
+    if result.plan is not None:
+        out.write_json("plan.json", result.plan)
+        out.write_text("plan.txt", result.plan_text or "")
+    if result.execution is not None:
+        out.write_text("commands.txt", result.execution.commands_text)
+    out.write_json("execution.json", result.report())
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the pipeline, publish every file, exit 0 only on success."""
+    from perception.scenario import load
+
+    scenario = load(Path(args.scenario))
+    result = pipeline(scenario, args.rules)
+    with OutputDir(args.out) as out:
+        publish(result, out)
+    rec = result.recognition
+    print(f"lbw run: {scenario.name}: {len(rec['recognized'])} operations recognized "
+          f"({'exactly as demonstrated' if rec['exact'] else 'NOT as demonstrated'}); "
+          f"outputs in {args.out}")
+    if not result.success:
+        print(f"lbw run: failed: {result.failure or 'no plan'}", file=sys.stderr)
+        return 1
+    print(f"lbw run: success ({result.execution.message if result.execution else 'plan learned'})")
+    return 0
