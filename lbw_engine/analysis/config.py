@@ -32,6 +32,7 @@ class AnalysisRules:
     start: str
     operators: dict[str, str]  # grammar rule -> operator class
     removed: frozenset[str]  # grammar rules whose match is dropped
+    trailing: frozenset[str]  # operations dropped where they end the demonstration
     plot_grammar_file: Path
     agents: frozenset[str]
     fixed: frozenset[str]
@@ -107,7 +108,7 @@ def load_rules(rules_dir: str | Path | None = None) -> AnalysisRules:
         data, ("templates", "plot_grammar", "objects", "position_tolerance", "dependencies"), ""
     )
     tpl = c.mapping(data, "templates", "")
-    c.known_keys(tpl, ("grammar", "start", "operators", "removed"), "templates")
+    c.known_keys(tpl, ("grammar", "start", "operators", "removed", "trailing"), "templates")
     ops = c.mapping(tpl, "operators", "templates")
     for rule, cls in ops.items():
         if cls not in PLAN_CLASSES:
@@ -144,6 +145,7 @@ def load_rules(rules_dir: str | Path | None = None) -> AnalysisRules:
         start=c.name(tpl, "start", "templates"),
         operators=dict(ops),
         removed=frozenset(removed),
+        trailing=frozenset(c.names(tpl, "trailing", "templates") if "trailing" in tpl else ()),
         plot_grammar_file=rules_dir / c.name(data, "plot_grammar", ""),
         agents=frozenset(c.names(objs, "agents", "objects")),
         fixed=frozenset(c.names(objs, "fixed", "objects")),

@@ -12,7 +12,7 @@ an operator inside its parent's $sequence (none inside a $parallel).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -46,12 +46,32 @@ def analyze_file(actions_path: str | Path, rules_dir: str | Path | None = None) 
     return analyze(seq, rules)
 
 
+def split_trailing(
+    seq: ActionSequence, trailing: frozenset[str]
+) -> tuple[ActionSequence, list[Operation]]:
+    """Cut off the run of ``trailing`` operations that ends the demonstration.
+
+    Fig. 12 ends "withdraw01 withdraw02": the hand leaving after the last PUT.
+    Fig. 17 has no trace of them, so they are redundant (analysis.yaml
+    templates.trailing); inside the task the templates' WITHDRAW* still apply.
+    """
+    ops = seq.operations
+    cut = len(ops)
+    while cut > 0 and ops[cut - 1].operation in trailing:
+        cut -= 1
+    if cut == len(ops) or cut == 0:
+        return seq, []
+    return replace(seq, operations=ops[:cut]), list(ops[cut:])
+
+
 @without_gc
 def analyze(seq: ActionSequence, rules: AnalysisRules) -> Analysis:
     """Plan analysis of Sec. VI on a loaded action sequence."""
     tpl = load_templates(rules)
+    seq, tail = split_trailing(seq, rules.trailing)
     tree = parse_sequence(tpl, seq)
     achieves, removed = build_step1(tree, seq, rules)
+    removed = [*removed, *tail]
     if not achieves:
         names = " ".join(op.name for op in removed)
         raise InputError(f"no template of {tpl.file.name} makes an operator from the "

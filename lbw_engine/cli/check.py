@@ -30,14 +30,11 @@ def _line_naming(path: Path, word: str) -> int | None:
     return None
 
 
-def cross_check(operations: set[str], template_words: set[str], command_ops: set[str],
-                template_file: Path, command_file: Path) -> None:
-    """Operations named by the templates (Fig. 15) and the command expansions
-    (Table IX) must be operations the recognizer's rules (Table V) define."""
-    for words, path, what in (
-        (template_words, template_file, "template"),
-        (command_ops, command_file, "command expansion"),
-    ):
+def cross_check(operations: set[str], named: list[tuple[set[str], Path, str]]) -> None:
+    """Operations named by the templates (Fig. 15), the analysis table and the
+    command expansions (Table IX) must be operations the recognizer's rules
+    (Table V) define; ``named`` holds (names, file, what names them)."""
+    for words, path, what in named:
         for word in sorted(words - operations):
             raise InputError(
                 f"the {what} names operation {word!r}, which the recognizer's operations.yaml "
@@ -52,8 +49,11 @@ def run(args: argparse.Namespace) -> int:
     templates = load_templates(analysis)
     commands = commandrules.load_dir(rules.directory)
     words = {t.pattern.value for t in templates.parser.terminals if t.pattern.type == "str"}
-    cross_check(rules.operations, words, set(commands.operations),
-                templates.file, Path(commands.file))
+    cross_check(rules.operations, [
+        (words, templates.file, "template"),
+        (set(analysis.trailing), analysis.file, "analysis table (templates.trailing)"),
+        (set(commands.operations), Path(commands.file), "command expansion"),
+    ])
     print(
         f"lbw check: {rules.directory}: {len(RULE_FILES) + 3} rule files OK "
         f"({len(rules.events)} events, {len(rules.motions)} motion classes, "

@@ -31,10 +31,14 @@ GOOD = [  # (id, sequence, top-level operators' plots of the ACHIEVE leaves, rem
     ("Fig15-leading-WITHDRAW-removed", "WITHDRAW WITHDRAW REACH PICK REACH-WITH-OBJ PLACE-ON-TABLE",
      [["fetch", ["reach01", "pick01"]], ["put", ["reach-with-obj01", "place-on-table01"]]],
      ["withdraw01", "withdraw02"]),
-    ("Fig15-PUT-keeps-its-WITHDRAWs",
+    ("Fig12-to-Fig17-trailing-WITHDRAWs-removed",
      "REACH PICK REACH-WITH-OBJ PLACE-ON-TABLE WITHDRAW WITHDRAW",
+     [["fetch", ["reach01", "pick01"]], ["put", ["reach-with-obj01", "place-on-table01"]]],
+     ["withdraw01", "withdraw02"]),
+    ("Fig15-PUT-keeps-a-WITHDRAW-inside-the-task",
+     "REACH PICK REACH-WITH-OBJ PLACE-ON-TABLE WITHDRAW REACH PICK REACH-WITH-OBJ PLACE-ON-BLOCK",
      [["fetch", ["reach01", "pick01"]],
-      ["put", ["reach-with-obj01", "place-on-table01", "withdraw01", "withdraw02"]]], []),
+      ["put", ["reach-with-obj01", "place-on-table01", "withdraw01"]]], []),
 ]
 
 

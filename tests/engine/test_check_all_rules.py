@@ -16,6 +16,8 @@ BROKEN = [
      "achieve: fetch fake* put (", "templates.lark", "bad template grammar"),
     ("commands-unknown-operation", "commands.yaml", "\n  ALIGN: ", "\n  ALIGNX: ",
      "commands.yaml:", "ALIGNX"),
+    ("analysis-trailing-unknown-operation", "analysis.yaml", "trailing: [WITHDRAW]",
+     "trailing: [WITHDRAWAL]", "analysis.yaml:", "WITHDRAWAL"),
     ("analysis-unknown-rule", "analysis.yaml", "achieve", "achieve_typo",
      "analysis.yaml", "achieve_typo"),
 ]
