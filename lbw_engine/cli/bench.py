@@ -21,6 +21,7 @@ import os
 import sys
 import time
 import traceback
+from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
@@ -40,6 +41,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                         help="worker processes (default: all cores)")
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
+    parser.add_argument("--scenarios", metavar="DIR",
+                        help="also write each generated scenario as DIR/gen-SEED-LEVEL.yaml "
+                             "(to rerun a failing case with lbw run)")
 
 
 def tasks(count: int, seed: int) -> list[tuple[int, str]]:
@@ -203,6 +207,12 @@ def run(args: argparse.Namespace) -> int:
     """Run, print the table and the failing cases, write the JSON file."""
     if args.count < 1 or args.jobs < 1:
         raise InputError("--count and --jobs must be at least 1", where="arguments")
+    if args.scenarios:
+        from perception.generator import generate
+
+        folder = Path(args.scenarios)
+        for seed, level in tasks(args.count, args.seed):
+            atomic_write_text(folder / f"gen-{seed}-{level}.yaml", generate(seed, level).text)
     doc = bench(args.count, args.seed, args.jobs, args.rules)
     doc["command"] = f"lbw bench --count {args.count} --seed {args.seed} --jobs {args.jobs}"
     atomic_write_text(args.out, to_json(doc))

@@ -83,7 +83,9 @@ def test_summarize_counts_crashes_as_failures():
 
 def test_lbw_bench_command(tmp_path, capsys):
     out = tmp_path / "bench.json"
-    assert main(["bench", "--count", "1", "--seed", "0", "--jobs", "1", "--out", str(out)]) == 0
+    assert main(["bench", "--count", "1", "--seed", "0", "--jobs", "1", "--out", str(out),
+                 "--scenarios", str(tmp_path / "sc")]) == 0
+    assert (tmp_path / "sc" / "gen-0-nominal.yaml").read_text().startswith("# Generated")
     doc = json.loads(out.read_text())
     assert doc["count"] == 1 and len(doc["scenarios"]) == 1
     rec = doc["scenarios"][0]
