@@ -102,7 +102,7 @@ def run_one(task: tuple[int, str, str | None]) -> dict[str, Any]:
         _score(rec, gen.scenario(), rules_dir)
     except Exception as exc:  # a crash is a finding of the benchmark, not the end of it
         rec["error"] = f"{type(exc).__name__}: {exc}"
-        rec["traceback"] = traceback.format_exc(limit=6)
+        rec["traceback"] = traceback.format_exc(limit=-8)  # the innermost frames
     return rec
 
 
