@@ -47,6 +47,9 @@ class Detection:
     position:  one measured 3-D point (e.g. the centre of a changed area).
     positions: measured 3-D positions of named nodes (e.g. ``hand``).
     objects:   the object-finder's result, name -> ObjectInfo.
+    t:         when the event began, if the detector could only confirm it later
+               (it looks at a stretch of frames): the segmentation time. Never
+               after the current frame; None means the current frame's time.
     """
 
     found: tuple[str, ...] = ()
@@ -55,6 +58,7 @@ class Detection:
     position: Vec3 | None = None
     positions: dict[str, Vec3] = field(default_factory=dict)
     objects: dict[str, ObjectInfo] = field(default_factory=dict)
+    t: float | None = None
 
 
 @dataclass(frozen=True)

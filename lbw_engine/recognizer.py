@@ -33,6 +33,7 @@ class Recognizer:
         self.stack = AttentionStack()
         self.counts: Counter[str] = Counter()
         self.t = 0.0
+        self.t_seg = 0.0  # segmentation time of the event being interpreted
         self.root: ActNode | None = None
         self.finished = False
         self.initial_objects: dict[str, dict[str, Any]] = {}
@@ -52,7 +53,7 @@ class Recognizer:
 
     def step(self, t: float, frame: Any = None) -> None:
         """One frame: detect passes alternating with analyze steps (Sec. V-A)."""
-        self.t = t
+        self.t = self.t_seg = t
         self.registry.begin_frame(t, frame)
         for node in self.stack.scan():
             node.asked = False
@@ -68,6 +69,7 @@ class Recognizer:
     def finish(self) -> None:
         """End of input: close the motions still open, without a final event."""
         if not self.finished and self.root is not None:
+            self.t_seg = self.t
             self._terminate(self.root, None)
             self.stack.reset(0)
             self.finished = True
@@ -109,6 +111,10 @@ class Recognizer:
         if isinstance(detection.value, str):
             keys = (attn.event, detection.value)
         self.log.append((self.t, act.motion, attn.event, detection.value))
+        # Segmentation time: the event's onset when the detector dates it (a detector
+        # that watches a stretch of frames confirms an event after it began), never
+        # before the receiving motion started nor after this frame.
+        self.t_seg = self.t if detection.t is None else min(self.t, max(act.t_start, detection.t))
         transition, redirections = self.rules.interpretation(act.motion, keys)
         if transition is not None:
             self._transit(act, transition, attn.event, detection)
@@ -181,7 +187,7 @@ class Recognizer:
             f"{motion}{self.counts[motion]}",
             level,
             parent,
-            t_start=self.t,
+            t_start=self.t_seg,
             initial_event=event,
             **slots,
         )
@@ -217,7 +223,7 @@ class Recognizer:
         if node.operation in self.rules.effects:
             binds = actmodel.effect_bindings(self.rules, node, self.env)
             self.env.apply_effect(self.rules.effects[node.operation], binds, node.measured)
-        node.final_event, node.t_end = event, self.t
+        node.final_event, node.t_end = event, self.t_seg
         node.final_state = self.env.snapshot(node.nodes())
         if node.initial_state is not None:
             node.initial_state = node.initial_state.restricted(node.nodes())

@@ -344,6 +344,8 @@ def _constants(directory: Path) -> dict[str, Any]:
             "detect-passes-per-frame",
             "place-clearance",
             "place-overlap-limit",
+            "hand-velocity-window",
+            "far-margin",
         ),
     )
     region = reader.sequence(data["attention-region"], "attention-region", data, "attention-region")
@@ -352,7 +354,8 @@ def _constants(directory: Path) -> dict[str, Any]:
     for key in ("search-cycle-limit", "detect-passes-per-frame"):
         if not isinstance(data[key], int) or isinstance(data[key], bool) or data[key] < 1:
             reader.fail(f"{key} must be a whole number >= 1", data, key)
-    for key in ("repositioning-distance", "motion-detector-interval"):
+    for key in ("repositioning-distance", "motion-detector-interval", "hand-velocity-window",
+                "far-margin"):
         if reader.number(data, key, "constant") <= 0:
             reader.fail(f"{key} must be positive", data, key)
     for key in ("place-clearance", "place-overlap-limit"):

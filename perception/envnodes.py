@@ -34,8 +34,10 @@ from lbw_engine.recognizer import Recognizer
 from lbw_engine.rules import RuleSet
 
 from .camera import WORKSPACE_HI, WORKSPACE_LO, Camera
-from .detectors_vision import ChangeNode, CoplanarNode, SearchNode
+from .detectors_vision import ChangeNode, CoplanarNode, SearchNode, box, held_box
+from .envnodes_hand import HandPath, WorkRegion
 from .frames import Frame
+from .vfd import Region3D
 from .vfd_hand import HandTracker
 from .vfd_motion import MotionDetector
 from .vfd_objects import ObjectFinder
@@ -46,12 +48,12 @@ Vec3 = tuple[float, float, float]
 NAME_RADIUS = 40.0  # mm: a found object takes a teach name within this distance (same shape)
 BORDER_MM = 40.0  # the hand was lost this close to the workspace's edge: it left (:Disappeared)
 REENTRY_S = 0.5  # s after leaving before a moving thing counts as a new hand (no Case-2 echo)
-FAR_RISE_MM = 60.0  # :Far once the hand is this far above where it worked, moving off
+FAR_RISE_MM = 60.0  # the fast-rise :Far cue needs the hand this far above where it worked
 JOIN_MM = 10.0  # :Join while the hand stays within this height of its lowest point
 DESCENT_MM = 30.0  # ... after coming down at least this far since :Near
 SETTLE_FRAMES = 5  # tracked frames after a (re)placement before the velocity is trusted
-FAR_FRAMES = 2  # ... on this many frames in a row
-VELOCITY_FRAMES = 5  # least-squares velocity over this many tracked frames (~0.17 s)
+FAR_FRAMES = 2  # :Far holds on this many frames in a row (one-frame height jumps)
+FAST_S = 0.1  # s: the fast-rise :Far cue must last this long (tremor peaks are shorter)
 SPLIT_MM = 8.0  # :Split once it has risen this much above where it joined
 
 
@@ -79,12 +81,19 @@ class Eyes:
         self.velocity = np.zeros(3)
         self.state = "absent"  # absent | tracking | lost | gone
         self.t_gone = -1e9
+        self.t_seen = 0.0  # last frame the tracker saw the hand
         self.moving: np.ndarray | None = None  # the motion-detector's latest point
         self.low: float | None = None  # lowest hand height since the last :Near
         self.high: float | None = None  # hand height at the last :Near
-        self.off_frames = 0  # frames in a row the hand moved off fast (:Far)
+        self.off_frames = 0  # frames in a row the hand was outside the work region (:Far)
+        self.fast_since: float | None = None  # since when it has been rising fast (:Far)
         self.settled = 0  # frames tracked since the tracker was (re)placed
-        self.track: deque[tuple[float, np.ndarray]] = deque(maxlen=VELOCITY_FRAMES)
+        self.path = HandPath(float(rules.constants["hand-velocity-window"]))
+        self.far_margin = float(rules.constants["far-margin"])
+        # :Far by height: beyond the guided search's reach (cycle limit x region height)
+        self.far_height = float(rules.constants["search-cycle-limit"]) * float(
+            rules.constants["attention-region"][2])
+        self.work: WorkRegion | None = None  # footprint of this LocalMotion's target
         self.raw: deque[np.ndarray] = deque(maxlen=3)  # last tracker positions (median of 3)
         self.joined_at: float | None = None  # hand height at the last :Join
         self.release: np.ndarray | None = None  # hand position at the last :Split
@@ -116,15 +125,16 @@ class Eyes:
             gone = self.hand is None or not _inside(self.hand, -BORDER_MM)
             self.state, self.t_gone = ("gone", t) if gone else ("lost", self.t_gone)
         if self.settled == 1:
-            self.track.clear()
+            self.path.clear()
             self.raw.clear()
         if self.tracker.tracking and self.tracker.position is not None:
             # A finger window may snap to a neighbouring edge for a frame (z jumps of a few
             # cm beside carried blocks); the median of three drops such single-frame jumps.
             self.raw.append(self.tracker.position)
+            self.t_seen = t
             self.hand = np.median(np.array(self.raw), axis=0)
-            self.track.append((t, self.hand))
-            self.velocity = _slope(self.track)
+            self.path.add(t, self.hand)
+            self.velocity = self.path.velocity
             if self.low is not None:
                 self.low = min(self.low, float(self.hand[2]))
 
@@ -182,24 +192,34 @@ class Eyes:
 
     def disappeared(self) -> Detection | None:
         """The tracked hand was lost at the workspace's edge: it went outside the world."""
-        return Detection() if self.state == "gone" else None
+        # The tracker gives up a few frames after it last saw the hand: it left then.
+        return Detection(t=self.t_seen) if self.state == "gone" else None
 
     # -- :Far, :Join, :Split -------------------------------------------------------------------
     def far(self) -> Detection | None:
-        """Hand moving fast and well above where it worked (the LocalMotion's low point)."""
+        """The hand away from the LocalMotion's target (Table III :Far), dated at its onset.
+
+        Geometric first: the hand is outside the target's footprint grown by
+        ``far-margin``, or higher above where it worked than the guided search
+        reaches. The next target may lie in the same footprint (a touch, then a
+        pick of the same block): then a Transfer-fast motion (over 2 V_H1, well
+        above a slow depart with tremor) once the hand has risen tells it.
+        """
         if self.hand is None or self.low is None or self.state != "tracking":
             return None
-        v = self.velocity
-        sideways = float(np.hypot(v[0], v[1]))
-        # A depart rises almost vertically at up to about V_H1; leaving for the next target
-        # adds a fast sideways component (beyond V_H1), or (same
-        # target again) a much faster rise. Either must persist: the tracked height jumps
-        # by a centimetre now and then.
-        moving_off = sideways > self.v_fast or self.speed() > 2 * self.v_fast
-        self.off_frames = self.off_frames + 1 if moving_off else 0
-        if self.hand[2] - self.low > FAR_RISE_MM and self.off_frames >= FAR_FRAMES:
-            self.low = None
-            return self.hand_detection()
+        rise = float(self.hand[2]) - self.low
+        outside = (self.work is not None and self.work.distance(self.hand) > self.far_margin) \
+            or rise > self.far_height
+        if not (rise > FAR_RISE_MM and self.speed() > 2 * self.v_fast):
+            self.fast_since = None
+        elif self.fast_since is None:
+            self.fast_since = self.t
+        # tremor (with the depart's rise) reaches 2 V_H1 for moments; a Transfer keeps it up
+        fast = self.fast_since is not None and self.t - self.fast_since >= FAST_S
+        self.off_frames = self.off_frames + 1 if outside else 0
+        if self.off_frames >= FAR_FRAMES or fast:
+            self.low, self.work, self.fast_since = None, None, None
+            return self.hand_detection(t=self.path.onset(self.t))
         return None
 
     def join(self, target: Sequence[EnvNode], env: EnvModel) -> Detection | None:
@@ -215,30 +235,38 @@ class Eyes:
             return self.hand_detection()
         return None
 
-    def split(self) -> Detection | None:
+    def split(self, env: EnvModel) -> Detection | None:
         """Hand rising away from where it joined."""
         if self.hand is None or self.joined_at is None:
             return None
         if self.hand[2] - self.joined_at > SPLIT_MM:
             self.joined_at = None
             self.release = self.hand.copy()
+            held = held_box(self, env)
+            if held is not None and self.work is not None:  # the spot where it was let go
+                self.work.extend(held[1].lo, held[1].hi)
             return self.hand_detection()
         return None
 
-    def near_found(self) -> None:
-        """A LocalMotion starts: track the hand's lowest point from here."""
+    def near_found(self, found: Sequence[str], env: EnvModel) -> None:
+        """A LocalMotion starts: track the hand's lowest point and its target's footprint.
+
+        The footprint is the held block's (a place: where it comes down) or the found
+        blocks' boxes as they are now (a pick: where the target was before it moved).
+        """
         self.low = float(self.hand[2]) if self.hand is not None else None
         self.high, self.release = self.low, None
-
-
-def _slope(samples: Sequence[tuple[float, np.ndarray]]) -> np.ndarray:
-    """Least-squares velocity (mm/s) of timed 3-D samples; zero with fewer than three."""
-    if len(samples) < 3:
-        return np.zeros(3)
-    t = np.array([s[0] for s in samples])
-    x = np.array([s[1] for s in samples])
-    t = t - t.mean()
-    return (t @ (x - x.mean(axis=0))) / float(t @ t)
+        held = held_box(self, env)
+        boxes = [held[1]] if held is not None else [
+            box(n) for n in env.get(tuple(found)) if n.kind == "Loc" and n.size is not None]
+        if not boxes and self.hand is not None:  # the table, empty-handed: around the hand
+            boxes = [Region3D.around(self.hand, self.search.default)]
+        self.work = None
+        for b in boxes:
+            if self.work is None:
+                self.work = WorkRegion(b.lo, b.hi)
+            else:
+                self.work.extend(b.lo, b.hi)
 
 
 def _inside(p: Sequence[float], margin: float = 0.0) -> bool:
@@ -329,7 +357,7 @@ class _HandObject(_Node):
 
     def split(self, base, target, env) -> Detection | None:
         """Hand leaves the target."""
-        return self.eyes.split()
+        return self.eyes.split(env)
 
 
 class _Search(_Node):
@@ -339,7 +367,7 @@ class _Search(_Node):
         """Guided visual search below the hand, confirmed in the env model (Sec. III-E)."""
         found = self.eyes.search.near(env)
         if found:
-            self.eyes.near_found()
+            self.eyes.near_found(found, env)
             return self.eyes.hand_detection(found=found)
         return None
 

@@ -31,6 +31,7 @@ class Watched:
     actions: dict
     truth: list
     pixels: list[int]
+    span: tuple[float, float]  # first and last time part of the hand is in both views
 
 
 def watch(name: str, pixel: float | None = None, tremor: float | None = None) -> Watched:
@@ -43,30 +44,36 @@ def watch(name: str, pixel: float | None = None, tremor: float | None = None) ->
         sc = replace(sc, noise=noise)
     demo = Demonstration(sc)
     cams = default_cameras()
-    frames = demonstration_frames(sc, cams, demonstration=demo)
+    seen: list[float] = []
+    frames = demonstration_frames(sc, cams, demonstration=_noting_hand(demo, cams, seen))
     rec, eyes = watch_frames(frames, cams, sc.shapes, RULES, teach_names(sc))
-    return Watched(sc, demo, to_actions(rec), ground_truth(sc, Demonstration(sc)), eyes.pixels)
+    return Watched(sc, demo, to_actions(rec), ground_truth(sc, Demonstration(sc)), eyes.pixels,
+                   (seen[0], seen[-1]) if seen else (0.0, 0.0))
+
+
+def _noting_hand(demo: Demonstration, cams: dict, seen: list[float]):
+    """The demonstration's (t, scene) frames, noting the times some part of the true hand
+    (palm or a finger box) is inside both camera images (for the evaluation only)."""
+    signs = np.array([[sx, sy, sz] for sx in (-.5, .5) for sy in (-.5, .5) for sz in (-.5, .5)])
+    for t, scene in demo:
+        boxes = [b for b in scene if b.kind == "hand"]
+        if boxes and all(any(_in_image(cam, np.asarray(b.center) + signs * np.asarray(b.size))
+                             for b in boxes) for cam in cams.values()):
+            seen.append(t)
+        yield t, scene
+
+
+def _in_image(cam, corners: np.ndarray) -> bool:
+    """Whether the projected box (its corners' bounding rectangle) meets the image."""
+    uv = cam.project(corners)
+    lo, hi = uv.min(axis=0), uv.max(axis=0)
+    return bool(hi[0] >= 0 and hi[1] >= 0 and lo[0] < cam.size[0] and lo[1] < cam.size[1])
 
 
 def visible_span(w: Watched) -> tuple[float, float]:
     """First and last time part of the true hand is inside both camera images (it enters and
     leaves from outside the cameras' view, design.md; before and after nothing can see it)."""
-    cams = default_cameras()
-    demo = Demonstration(w.scenario)
-    demo._cursor = 0  # target() looks segments up from a cursor that iteration starts
-    seen = []
-    for k in range(demo.n_frames):
-        t = k / demo.fps
-        p, seg = demo.target(t)
-        if seg.phase == "absent":
-            continue
-        # any part of the hand: the palm reaches 25 mm to either side of the grip point
-        pts = np.array([p]) + np.array([[-25.0, 0, 0], [0, 0, 0], [25.0, 0, 0]])
-        ok = any(all(np.all(uv >= 0) and np.all(uv < c.size) for c in cams.values()
-                     for uv in [c.project(pt[None])[0]]) for pt in pts)
-        if ok:
-            seen.append(t)
-    return seen[0], seen[-1]
+    return w.span
 
 
 _CACHE: dict[str, Watched] = {}

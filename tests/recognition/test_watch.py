@@ -14,8 +14,7 @@ from perception.groundtruth import expected_operations
 
 from .conftest import SCENARIOS, visible_span
 
-NEAR_TOLERANCE = 0.3  # s: a Transfer ends at :Near (arrival above the target)
-FAR_TOLERANCE = 0.5  # s: a LocalMotion ends at :Far; see docs/seeing.md (velocity lag)
+TOLERANCE = 0.3  # s: every segmentation time (issue #5)
 PLACE_TOLERANCE = 5.0  # mm
 
 
@@ -55,11 +54,7 @@ def test_segmentation_times_are_close_to_the_true_ones(watched, name):
     for k, (op, true) in enumerate(zip(ops, truth, strict=True)):
         start = enter if k == 0 else true.t_start
         end = leave if k == len(ops) - 1 else true.t_end
-        start_tol = NEAR_TOLERANCE if true.motion == "LocalMotion" or k == 0 else FAR_TOLERANCE
-        # the last end is :Disappeared: the tracker gives up after a few frames without it
-        end_tol = NEAR_TOLERANCE if true.motion == "Transfer" and k < len(ops) - 1 \
-            else FAR_TOLERANCE
-        if abs(op["t_start"] - start) > start_tol or abs(op["t_end"] - end) > end_tol:
+        if abs(op["t_start"] - start) > TOLERANCE or abs(op["t_end"] - end) > TOLERANCE:
             errors.append((op["name"], op["t_start"], round(start, 2), op["t_end"], round(end, 2)))
     assert not errors
 

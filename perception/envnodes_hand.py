@@ -1,0 +1,100 @@
+"""The tracked hand's recent path: noise-robust velocity, motion onset and the work region.
+
+Helpers of ``perception.envnodes`` (the HandLoc node and :Far, Table III/IV).
+The tracker's positions carry pixel noise and the demonstrator's tremor
+(0.4-1.5 Hz); a frame difference of them is dominated by both, so the
+velocity is a least-squares slope over a short time window
+(``hand-velocity-window`` in rules/constants.yaml). docs/seeing.md explains
+the :Far decision that uses ``WorkRegion`` and ``HandPath.onset``.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Sequence
+
+import numpy as np
+
+HISTORY_S = 1.5  # s of speeds kept to find where the current motion started
+ONSET_FRACTION = 0.25  # the onset fit uses the speeds above this share of the current one
+
+
+class HandPath:
+    """Timed 3-D hand positions: velocity over ``window`` s and a short speed history."""
+
+    def __init__(self, window: float) -> None:
+        """Velocity from the samples of the last ``window`` seconds."""
+        self.window = float(window)
+        self.samples: deque[tuple[float, np.ndarray]] = deque()
+        self.speeds: deque[tuple[float, float]] = deque()  # (window mid-time, speed)
+        self.velocity = np.zeros(3)
+
+    def clear(self) -> None:
+        """Forget the path (the tracker was re-placed: old samples are another point)."""
+        self.samples.clear()
+        self.speeds.clear()
+        self.velocity = np.zeros(3)
+
+    def add(self, t: float, p: np.ndarray) -> None:
+        """Append a sample; update the velocity (least squares) and the speed history."""
+        s = self.samples
+        s.append((t, p))
+        while t - s[0][0] > self.window + 1e-9:
+            s.popleft()
+        if len(s) < 3:
+            self.velocity = np.zeros(3)
+            return
+        ts = np.fromiter((q[0] for q in s), float, len(s))
+        xs = np.array([q[1] for q in s])
+        mid = float(ts.mean())
+        ts -= mid
+        self.velocity = (ts @ (xs - xs.mean(axis=0))) / float(ts @ ts)
+        self.speeds.append((mid, float(np.linalg.norm(self.velocity))))
+        while t - self.speeds[0][0] > HISTORY_S:
+            self.speeds.popleft()
+
+    def onset(self, now: float) -> float:
+        """When the current motion started (at most ``HISTORY_S`` back, never after ``now``).
+
+        A minimum-jerk motion from rest (Sec. V-B's human model: the Transfer leaves
+        the end of the Depart at zero speed) speeds up like the square of the time
+        since it began, so the square root of the speed grows linearly; the line
+        fitted to the recent run of speeds is extrapolated back to zero speed.
+        """
+        hist = list(self.speeds)
+        if not hist:
+            return now
+        # The motion before (a Depart) ends at rest too: the slowest point of the recent
+        # history is the boundary; the fit uses only what came after it.
+        m = min(range(len(hist)), key=lambda k: hist[k][1])
+        top = max(range(m, len(hist)), key=lambda k: hist[k][1])  # up to the fastest point
+        floor = ONSET_FRACTION * hist[top][1]
+        run = [(t, v) for t, v in hist[m:top + 1] if v >= floor]
+        t_min = hist[m][0]
+        if len(run) < 3:
+            return min(now, t_min)
+        ts = np.array([r[0] for r in run])
+        rv = np.sqrt(np.array([r[1] for r in run]))
+        slope, cut = np.polyfit(ts, rv, 1)
+        if slope <= 0:
+            return min(now, t_min)
+        return float(np.clip(-cut / slope, t_min, now))
+
+
+class WorkRegion:
+    """The horizontal footprint a LocalMotion works on (its target's box, the place spot)."""
+
+    def __init__(self, lo: Sequence[float], hi: Sequence[float]) -> None:
+        """Footprint from corner ``lo`` to ``hi`` (x, y in mm)."""
+        self.lo = np.array(lo[:2], float)
+        self.hi = np.array(hi[:2], float)
+
+    def extend(self, lo: Sequence[float], hi: Sequence[float]) -> None:
+        """Grow the footprint to cover another box (the spot where a block was released)."""
+        self.lo = np.minimum(self.lo, np.asarray(lo[:2], float))
+        self.hi = np.maximum(self.hi, np.asarray(hi[:2], float))
+
+    def distance(self, p: Sequence[float]) -> float:
+        """Horizontal distance (mm) of ``p`` from the footprint, zero above it."""
+        d = np.maximum(0.0, np.maximum(self.lo - p[:2], np.asarray(p[:2]) - self.hi))
+        return float(np.hypot(d[0], d[1]))
