@@ -34,6 +34,7 @@ class ActNode:
     snapshots: dict[str, Any] = field(default_factory=dict)  # detector -> first snapshot
     features: dict[str, Any] = field(default_factory=dict)
     measured: dict[str, Any] = field(default_factory=dict)  # feature -> measured position
+    found_by: dict[str, tuple[str, ...]] = field(default_factory=dict)  # feature -> names
 
     def slot(self, name: str) -> tuple[str, ...]:
         """The names in slot ``name`` (base, target or special)."""
@@ -87,6 +88,7 @@ def compute_features(
             if diff is not None:
                 out[name] = diff.value
                 node.measured[name] = diff.position
+                node.found_by[name] = tuple(diff.found)
         else:  # target-kind, or support-kind: the kind of what the targets rest on
             targets = env.get(node.target)
             if spec.source == "support-kind":
@@ -109,7 +111,12 @@ def effect_bindings(rules: RuleSet, node: ActNode, env: EnvModel) -> dict[str, t
     rule = rules.effects[node.operation]
     out: dict[str, tuple[str, ...]] = {}
     for var, spec in rule.bind.items():
-        if isinstance(spec, dict):
+        if isinstance(spec, dict) and "found" in spec:
+            # the ENV-nodes the feature's detector named (e.g. the block a face lines up
+            # with), else a slot (a detector that names none, e.g. a replayed trace)
+            named = tuple(n for n in node.found_by.get(spec["found"], ()) if n in env.nodes)
+            out[var] = named or resolve((spec["else"],), node, env)
+        elif isinstance(spec, dict):
             names = resolve((spec["nearest"],), node, env)
             point = node.measured.get(spec["to"])
             out[var] = _nearest(names, point, env)

@@ -93,8 +93,9 @@ def _check_effects(rules: R.RuleSet) -> None:
             raise rule.at.error(f"operation {op!r} does not exist in operations.yaml")
         bound = set(rule.bind)
         for name, value in rule.bind.items():
-            if isinstance(value, dict) and value["to"] not in rules.features:
-                raise rule.at.error(f"feature {value['to']!r} of binding {name!r} does not exist")
+            feature = value.get("to", value.get("found")) if isinstance(value, dict) else None
+            if feature is not None and feature not in rules.features:
+                raise rule.at.error(f"feature {feature!r} of binding {name!r} does not exist")
 
         def var(text: str, at: R.Where, star_ok: bool = False, bound=bound, op=op) -> None:
             """A template term must be '*' or a variable the rule binds."""

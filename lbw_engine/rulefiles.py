@@ -243,7 +243,12 @@ def _effects(directory: Path):
         reader.keys(spec, f"effects of {op!r}", ("bind",), ("remove", "add", "move"))
         bind = reader.mapping(spec["bind"], "bind", spec, "bind")
         for var, value in bind.items():
-            if isinstance(value, dict):
+            if isinstance(value, dict) and "found" in value:
+                reader.keys(value, f"binding of {var!r}", ("found", "else"))
+                if not isinstance(value["found"], str):
+                    reader.fail(f"binding of {var!r}: found must name a feature", value, "found")
+                reader.one_of(value["else"], R.BINDINGS, "binding", value, "else")
+            elif isinstance(value, dict):
                 reader.keys(value, f"binding of {var!r}", ("nearest", "to"))
                 reader.one_of(value["nearest"], R.BINDINGS, "binding", value, "nearest")
             else:

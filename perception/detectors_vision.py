@@ -244,4 +244,6 @@ class CoplanarNode:
         """positive: a coplanar pair appeared; negative: one was lost; else unchanged."""
         first, last = first or set(), last or set()
         sign = 1 if last - first else -1 if first - last else 0
-        return Detection(value=COPL_DET[sign])
+        # the neighbours whose faces became coplanar with the moved block's (ALIGN's `found`)
+        found = tuple(sorted({name for name, _ in last - first}))
+        return Detection(value=COPL_DET[sign], found=found)
