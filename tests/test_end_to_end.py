@@ -68,3 +68,15 @@ def test_demo_shows_the_paper_figures(tmp_path, capsys):
     assert "reach pick reach-with-obj place-on-table" in out
     assert "top two levels (Fig. 22)" in out and "$parallel" in out
     assert "45 manipulator commands" in out and "Verdict: SUCCESS" in out
+
+
+def test_run_with_video_and_report_adds_the_pictures(tmp_path):
+    code = main(["run", str(ROOT / "scenarios" / "arch.yaml"), "--out", str(tmp_path),
+                 "--video", "--report"])
+    assert code == 0
+    names = {p.name for p in tmp_path.iterdir()}
+    assert FILES | {"demonstration.mp4", "execution.mp4", "plan.svg", "plan.png",
+                    "report.html"} <= names
+    assert not [n for n in names if n.startswith(".lbw-staging")]
+    html = (tmp_path / "report.html").read_text()
+    assert "<svg" in html and "achieve" in html

@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -39,6 +40,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
     parser.add_argument("--out", metavar="DIR", default="out", help="output folder (out)")
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
+    parser.add_argument("--video", action="store_true",
+                        help="also write demonstration.mp4 and execution.mp4 (Fig. 19 monitor)")
+    parser.add_argument("--report", action="store_true",
+                        help="also write a self-contained report.html")
 
 
 @dataclass
@@ -82,15 +87,25 @@ def compare_with_truth(scenario: Any, actions: dict[str, Any]) -> dict[str, Any]
     return {"expected": expected, "recognized": recognized, "exact": expected == recognized}
 
 
-def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30.0) -> RunResult:
-    """Run watch → analyze → execute on a loaded scenario; never raises for a failed task."""
+def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30.0,
+             watcher: Callable[..., Any] | None = None,
+             on_step: Callable[[Any], None] | None = None) -> RunResult:
+    """Run watch → analyze → execute on a loaded scenario; never raises for a failed task.
+
+    ``watcher(scenario, rules, fps)`` replaces the plain watch (it must return
+    the recognizer), e.g. to draw the monitor display; ``on_step(world)`` is
+    called after every step of the robot's world (to record the execution).
+    """
     from .execute import execute_plan
 
     rules = load_rules(rules_dir)
     arules = load_analysis_rules(rules.directory)
     crules = commandrules.load_dir(rules.directory)
     clock = time.perf_counter()
-    recognizer, _ = watch(scenario, rules, fps=fps)
+    if watcher is None:
+        recognizer, _ = watch(scenario, rules, fps=fps)
+    else:
+        recognizer = watcher(scenario, rules, fps)
     actions = to_actions(recognizer)
     result = RunResult(scenario, actions, compare_with_truth(scenario, actions))
     result.seconds["watch"] = time.perf_counter() - clock
@@ -107,7 +122,7 @@ def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30
     if scenario.execute is not None:
         clock = time.perf_counter()
         plan = planmod.parse(analysis.plan, file="plan.json")
-        result.execution = execute_plan(plan, scenario, crules)
+        result.execution = execute_plan(plan, scenario, crules, on_step=on_step)
         result.seconds["execute"] = time.perf_counter() - clock
         if not result.execution.success:
             result.failure = f"execution: {result.execution.message}"
@@ -130,8 +145,14 @@ def run(args: argparse.Namespace) -> int:
     from perception.scenario import load
 
     scenario = load(Path(args.scenario))
-    result = pipeline(scenario, args.rules)
     with OutputDir(args.out) as out:
+        if args.video or args.report:
+            from .pictures import run_with_pictures
+
+            result = run_with_pictures(scenario, args.rules, out, video=args.video,
+                                       report=args.report)
+        else:
+            result = pipeline(scenario, args.rules)
         publish(result, out)
     rec = result.recognition
     print(f"lbw run: {scenario.name}: {len(rec['recognized'])} operations recognized "
