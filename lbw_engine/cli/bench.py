@@ -188,11 +188,11 @@ def failures(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
     out = []
     for r in records:
         what = []
+        if "exact" in r and not r["exact"]:
+            what.append(f"sequence {r['difference']}")
         if "error" in r:
             what.append(f"crashed: {r['error']}")
         else:
-            if not r["exact"]:
-                what.append(f"sequence {r['difference']}")
             if r.get("failure"):
                 what.append(r["failure"])
             elif not r["plan_correct"]:
