@@ -35,7 +35,7 @@ from lbw_engine.rules import RuleSet
 
 from .camera import WORKSPACE_HI, WORKSPACE_LO, Camera
 from .detectors_vision import ChangeNode, CoplanarNode, SearchNode, box, held_box
-from .envnodes_hand import HandPath, WorkRegion
+from .envnodes_hand import HandPath, footprint, median3
 from .frames import Frame
 from .vfd import Region3D
 from .vfd_hand import HandTracker
@@ -93,7 +93,7 @@ class Eyes:
         # :Far by height: beyond the guided search's reach (cycle limit x region height)
         self.far_height = float(rules.constants["search-cycle-limit"]) * float(
             rules.constants["attention-region"][2])
-        self.work: WorkRegion | None = None  # footprint of this LocalMotion's target
+        self.work = footprint([])  # footprint of this LocalMotion's target
         self.raw: deque[np.ndarray] = deque(maxlen=3)  # last tracker positions (median of 3)
         self.joined_at: float | None = None  # hand height at the last :Join
         self.release: np.ndarray | None = None  # hand position at the last :Split
@@ -132,7 +132,7 @@ class Eyes:
             # cm beside carried blocks); the median of three drops such single-frame jumps.
             self.raw.append(self.tracker.position)
             self.t_seen = t
-            self.hand = _median(self.raw)
+            self.hand = median3(self.raw)
             self.path.add(t, self.hand)
             self.velocity = self.path.velocity
             if self.low is not None:
@@ -261,20 +261,7 @@ class Eyes:
             box(n) for n in env.get(tuple(found)) if n.kind == "Loc" and n.size is not None]
         if not boxes and self.hand is not None:  # the table, empty-handed: around the hand
             boxes = [Region3D.around(self.hand, self.search.default)]
-        self.work = None
-        for b in boxes:
-            if self.work is None:
-                self.work = WorkRegion(b.lo, b.hi)
-            else:
-                self.work.extend(b.lo, b.hi)
-
-
-def _median(points: Sequence[np.ndarray]) -> np.ndarray:
-    """Per-axis median of one to three points (np.median costs ~10x more per frame)."""
-    if len(points) == 3:
-        a, b, c = points
-        return np.maximum(np.minimum(a, b), np.minimum(np.maximum(a, b), c))
-    return points[0] if len(points) == 1 else (points[0] + points[1]) / 2.0
+        self.work = footprint(boxes)
 
 
 def _inside(p: Sequence[float], margin: float = 0.0) -> bool:
