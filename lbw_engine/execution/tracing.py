@@ -96,6 +96,11 @@ def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
         goal = _goal(source, op, focus, rules, model, plan.file, where)
         if goal is not None:
             break
+    if goal is None and rule.goal:
+        # The rules name where the goal comes from, but this plan offers none of it
+        # (e.g. a touch made while holding an object): the task cannot be done.
+        raise TaskFailed(f"{leaf} in {op.name} ({op.cls}): none of its goal sources "
+                         f"({', '.join(rule.goal)}) gives a position in this plan")
     width = rules.margin
     grip = goal
     if focus is not None:
