@@ -27,6 +27,8 @@ MIN_FACE_PX = 6
 STACK_MISMATCH_MM = 8.0  # a column this far from every shape may be a stack of two
 CREASE_MAX = 110  # crease lines are drawn at 60, faces at 170 and brighter
 FRONT_BAND = (150, 190)  # faces facing -y (the side camera) are drawn at 170
+MIN_SCORE = 0.25  # correspondence score (IoU x solid fraction) taken as a match
+CANDIDATES = 3  # side top faces refined per top-view face
 
 
 @dataclass(frozen=True)
@@ -62,12 +64,26 @@ class ObjectFinder(VFD):
         solid = side_img > DARK_MAX
         m, blobs, _, _ = cv2.connectedComponentsWithStats(solid.astype(np.uint8), connectivity=8)
         blob_areas = np.bincount(blobs.ravel(), minlength=m)
+        # Correspondence (Sec. III-B): every top face proposes (score, height, side face)
+        # candidates; a side-view top face belongs to one block only, so the pairs are
+        # taken best first. A face lifted to a wrong height can land on the top face of a
+        # block in front of it (same width, on the same view line): that block's own,
+        # better-fitting claim takes the side face and the right height wins instead.
+        claims = sorted(((sc, k, lab, h) for k, rect in enumerate(faces)
+                         for sc, h, lab in self._heights(rect, labels, areas, solid)),
+                        reverse=True)
+        heights: dict[int, tuple[float, float]] = {}
+        taken: set[int] = set()
+        for sc, k, lab, h in claims:
+            if k not in heights and lab not in taken:
+                heights[k] = (h, sc)
+                taken.add(lab)
         boxes = []
-        for rect in faces:
-            height, score = self._height(rect, labels, areas, solid)
-            if score < 0.25:  # the top face is too thin to see from the side
+        for k, rect in enumerate(faces):
+            height, score = heights.get(k, (0.0, 0.0))
+            if score < MIN_SCORE:  # the top face is too thin to see from the side
                 height, score = self._height_from_silhouette(rect, blobs, blob_areas)
-            if score < 0.25:
+            if score < MIN_SCORE:
                 continue
             boxes.append((height, self._footprint(rect, height), rect))
         # A top face that frames another one (a ring around it from above) belongs to a
@@ -213,45 +229,57 @@ class ObjectFinder(VFD):
         return (float(pts[:, 0].min()), float(pts[:, 1].min()),
                 float(pts[:, 0].max()), float(pts[:, 1].max()))
 
-    def _height(self, rect, labels: np.ndarray, areas: np.ndarray, solid: np.ndarray
-                ) -> tuple[float, float]:
-        """Height of a top face: the stereo correspondence with a side-view top face.
+    def _heights(self, rect, labels: np.ndarray, areas: np.ndarray, solid: np.ndarray
+                 ) -> list[tuple[float, float, int]]:
+        """Candidate heights of a top face: (score, h, side face label), best few first.
 
         Lifted to the right height h, the face's footprint projects onto one
         side-view top-face region and covers it (high intersection over union);
-        lifted elsewhere it falls on a front face, on the background, or on a
-        part of some larger face. The column under the footprint down to the
-        table must also look solid in the side view (the face is supported).
+        lifted elsewhere it falls on a front face, on the background, on a part
+        of some larger face, or on the top face of a block in front of it. The
+        column under the footprint down to the table must also look solid in
+        the side view (the face is supported).
         """
         cam = self.cameras["side"]
 
-        def score(h: float) -> float:
-            """IoU with the best side top face, times the solid fraction below."""
+        def ious(h: float) -> np.ndarray | None:
+            """IoU of the lifted footprint with every side top face, times the solid part."""
             x0, y0, x1, y1 = self._footprint(rect, h)
             quad = np.array([[x0, y0, h], [x1, y0, h], [x1, y1, h], [x0, y1, h]])
             uv = cam.project(quad)
             ox, oy = np.floor(uv.min(axis=0)).astype(int) - 1
             ex, ey = np.ceil(uv.max(axis=0)).astype(int) + 2
             if ox < 0 or oy < 0 or ex > labels.shape[1] or ey > labels.shape[0]:
-                return 0.0
+                return None
             mask = np.zeros((ey - oy, ex - ox), np.uint8)
             cv2.fillConvexPoly(mask, np.rint((uv - (ox, oy)) * 16).astype(np.int32), 1,
                                cv2.LINE_8, 4)
             under = labels[oy:ey, ox:ex][mask > 0]
-            counts = np.bincount(under, minlength=2)
-            counts[0] = 0
-            best = int(counts.argmax())
-            if counts[best] == 0:
-                return 0.0
-            iou = counts[best] / float(len(under) + areas[best] - counts[best])
+            counts = np.bincount(under, minlength=len(areas)).astype(float)
+            counts[0] = 0.0
+            if not counts.any():
+                return None
+            iou = counts / (len(under) + areas - counts)
             return iou * self._solid_fraction(rect, h, solid)
 
-        coarse = [(score(h), h) for h in np.arange(1.0, 300.0, 2.0)]
-        best, h0 = max(coarse)
-        fine = [(score(h), h) for h in np.arange(h0 - 2.0, h0 + 2.01, 0.25)]
-        top_score = max(fine)[0]
-        hits = [h for sc, h in fine if sc >= top_score - 1e-9]
-        return float(np.mean(hits)), max(best, top_score)
+        best: dict[int, tuple[float, float]] = {}  # label -> (score, h) on the coarse grid
+        for h in np.arange(1.0, 300.0, 2.0):
+            sc = ious(h)
+            if sc is None:
+                continue
+            for lab in np.flatnonzero(sc >= MIN_SCORE):
+                if sc[lab] > best.get(lab, (0.0, 0.0))[0]:
+                    best[int(lab)] = (float(sc[lab]), float(h))
+        out = []
+        for lab, (sc0, h0) in sorted(best.items(), key=lambda kv: -kv[1][0])[:CANDIDATES]:
+            fine = []
+            for h in np.arange(h0 - 2.0, h0 + 2.01, 0.25):
+                sc = ious(h)
+                fine.append((float(sc[lab]) if sc is not None else 0.0, float(h)))
+            top = max(fine)[0]
+            hits = [h for s, h in fine if s >= top - 1e-9]
+            out.append((max(sc0, top), float(np.mean(hits)), lab))
+        return out
 
     def _height_from_silhouette(self, rect, blobs: np.ndarray, areas: np.ndarray
                                 ) -> tuple[float, float]:
