@@ -12,6 +12,7 @@ images, added with saturating cv2 arithmetic, so a frame costs a few cv2 calls.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 import cv2
@@ -60,6 +61,7 @@ def box_geometry(scene: Sequence[Box]) -> tuple[np.ndarray, np.ndarray]:
 
 
 _AXIS_SHADES = block_shade(_NORMALS).tolist()
+_FLAT_SHADES = {kind: [gray] * 6 for kind, gray in _FLAT.items()}
 
 
 def _geometry(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -122,11 +124,19 @@ def occludes(a: _Drawn, b: _Drawn, cam: str, eye: Sequence[float]) -> int:
 
 def paint_order(items: Sequence[_Drawn], cam: str, eye: Sequence[float]) -> list[int]:
     """Far-to-near drawing order (indices into ``items``) for the painter's algorithm."""
-    order = sorted(range(len(items)), key=lambda i: -items[i].dist[cam])
+    n = len(items)
+    kinds = {it.kind for it in items}
+    if n < 2 or (len(kinds) == 1 and kinds <= _FLAT.keys()):
+        # One flat gray without crease lines (a hand's palm and fingers): any order paints
+        # the same pixels.
+        return list(range(n))
+    neg = [-it.dist[cam] for it in items]
+    order = sorted(range(n), key=neg.__getitem__)
     out: list[int] = []
     while order:  # stable topological sort: draw first a box that hides nothing remaining
         for j, a in enumerate(order):
-            if all(occludes(items[a], items[b], cam, eye) <= 0 for b in order if b != a):
+            it = items[a]
+            if all(occludes(it, items[b], cam, eye) <= 0 for b in order if b != a):
                 out.append(order.pop(j))
                 break
         else:  # a cycle of overlapping boxes: keep the distance order
@@ -186,8 +196,15 @@ class Renderer:
         self._last_keys: tuple = ()
         self._last_clean: dict[str, np.ndarray] = {}
         # Both projection matrices stacked, so a batch of corners is projected in one product.
-        self._M = np.vstack([c.P[:, :3] for c in self.cameras.values()])
+        self._names = list(self.cameras)
+        self._MT = np.ascontiguousarray(np.vstack([c.P[:, :3] for c in self.cameras.values()]).T)
         self._p4 = np.concatenate([c.P[:, 3] for c in self.cameras.values()])
+        # Axis-aligned corner k of camera c is M_c (centre + _UNIT[k] * size) + p4_c: linear in
+        # (centre, size), so rows (cx, cy, cz, sx, sy, sz) @ _W + _w0 gives h[C, 8, 3] at once.
+        Ms = [c.P[:, :3] for c in self.cameras.values()]
+        self._W = np.concatenate([np.vstack([M.T, _UNIT[k][:, None] * M.T])
+                                  for M in Ms for k in range(8)], axis=1)
+        self._w0 = np.concatenate([c.P[:, 3] for c in self.cameras.values() for _ in range(8)])
         self._eyes = np.array([c.center for c in self.cameras.values()])
         self._eyes_l = self._eyes.tolist()
         self._layer = _Layer((), [], self)
@@ -281,46 +298,79 @@ class Renderer:
         if n == 0:
             return []
         # A held or resting body wobbles by ~1e-4 rad: far below a pixel, drawn untilted.
-        rows = np.array([(*b.center, *b.size, b.angle if abs(b.angle) > _FLAT_ANGLE else 0.0)
-                         for b in boxes], float)
-        names = list(self.cameras)
-        eyes = self._eyes  # [C,3]
-        tilted = bool(rows[:, 6].any())
-        if tilted:
-            corners, normals = _geometry(rows)
-            lo, hi = corners.min(axis=1), corners.max(axis=1)
-        else:  # axis-aligned: corners straight from centre and half-size
-            half = rows[:, 3:6] * 0.5
-            lo, hi = rows[:, :3] - half, rows[:, :3] + half
-            corners = rows[:, None, :3] + _UNIT[None, :, :] * rows[:, None, 3:6]
-        lo_l, hi_l = lo.tolist(), hi.tolist()
-        if tilted:  # visible when the eye lies beyond the face plane: n.(eye - c) > half-size
-            halfs = np.repeat(rows[:, 3:6] / 2.0, 2, axis=1)
-            visible = (np.einsum("nfk,cnk->cnf", normals, eyes[:, None, :] - rows[None, :, :3])
-                       > halfs[None] + 1e-6).tolist()
-            shades = block_shade(normals).tolist()
-        else:  # compare the eye with the box bounds, face by face
-            visible = [[[e[0] < a[0], e[0] > b[0], e[1] < a[1], e[1] > b[1], e[2] < a[2],
-                         e[2] > b[2]] for a, b in zip(lo_l, hi_l, strict=True)]
-                       for e in self._eyes_l]
-            shades = [_AXIS_SHADES] * n
+        rows = [(*b.center, *b.size, b.angle if abs(b.angle) > _FLAT_ANGLE else 0.0)
+                for b in boxes]
+        if any(r[6] for r in rows):  # rare (a toppling block): tilted ones on their own
+            tilted = [i for i, r in enumerate(rows) if r[6]]
+            flat = [i for i, r in enumerate(rows) if not r[6]]
+            out: list[_Drawn] = [None] * n  # type: ignore[list-item]
+            for i, d in zip(tilted, self._prepare_tilted(
+                    [boxes[i] for i in tilted], np.array([rows[i] for i in tilted], float)),
+                    strict=True):
+                out[i] = d
+            for i, d in zip(flat, self._prepare([boxes[i] for i in flat]), strict=True):
+                out[i] = d
+            return out
+        names, eyes = self._names, self._eyes_l
+        nc = len(names)
+        # Axis-aligned: the corners are linear in (centre, size), so corners and projection
+        # fold into one product with a precomputed matrix: h[N, C, 8, 3].
+        h = (np.array(rows, float)[:, :6] @ self._W + self._w0).reshape(n, nc, 8, 3)
+        uv = h[..., :2] / h[..., 2:3]  # [N,C,8,2]
+        # One flat list of every face quad (box-major, then camera), as views cv2 takes.
+        quads = list(np.rint(uv * _ONE).astype(np.int32)[:, :, _FACES].reshape(-1, 4, 2))
+        bounds = np.concatenate((uv.min(axis=2), uv.max(axis=2)), axis=2).tolist()  # [N,C,4]
+        out = []
         for i, b in enumerate(boxes):
-            if b.kind in _FLAT:
-                shades[i] = [_FLAT[b.kind]] * 6
-        h = (corners.reshape(-1, 3) @ self._M.T + self._p4).reshape(n, 8, len(names), 3)
+            cx, cy, cz, sx, sy, sz, _ = rows[i]
+            lo = (cx - sx * 0.5, cy - sy * 0.5, cz - sz * 0.5)
+            hi = (cx + sx * 0.5, cy + sy * 0.5, cz + sz * 0.5)
+            shade = _FLAT_SHADES.get(b.kind, _AXIS_SHADES)
+            faces, bbox, dist = {}, {}, {}
+            for c, name in enumerate(names):
+                base = (i * nc + c) * 6
+                e = eyes[c]
+                # The faces whose outside the eye is on, and the eye's distance to the box.
+                vis, d2 = [], 0.0
+                for k in range(3):
+                    if e[k] < lo[k]:
+                        vis.append(2 * k)
+                        d2 += (lo[k] - e[k]) ** 2
+                    elif e[k] > hi[k]:
+                        vis.append(2 * k + 1)
+                        d2 += (hi[k] - e[k]) ** 2
+                faces[name] = [(quads[base + f], shade[f]) for f in vis]
+                bbox[name] = bounds[i][c]
+                dist[name] = math.sqrt(d2)
+            creases = ({name: [q for q, _ in faces[name]] for name in names}
+                       if b.kind == "block" else None)
+            out.append(_Drawn(b.kind, lo, hi, faces, creases, bbox, dist))
+        return out
+
+    def _prepare_tilted(self, boxes: list[Box], rows: np.ndarray) -> list[_Drawn]:
+        """``_prepare`` for a batch with a tilted box: corners and normals rotated."""
+        n, names = len(boxes), self._names
+        corners, normals = _geometry(rows)
+        lo, hi = corners.min(axis=1), corners.max(axis=1)
+        # Visible when the eye lies beyond the face plane: n.(eye - c) > half-size.
+        halfs = np.repeat(rows[:, 3:6] / 2.0, 2, axis=1)
+        visible = (np.einsum("nfk,cnk->cnf", normals, self._eyes[:, None, :]
+                             - rows[None, :, :3]) > halfs[None] + 1e-6).tolist()
+        shades = block_shade(normals).tolist()
+        h = (corners.reshape(-1, 3) @ self._MT + self._p4).reshape(n, 8, len(names), 3)
         uv = h[..., :2] / h[..., 2:3]  # [N,8,C,2]
         quads = np.ascontiguousarray(
             np.rint(uv * _ONE).astype(np.int32).transpose(2, 0, 1, 3)[:, :, _FACES])
         uv_lo, uv_hi = uv.min(axis=1).tolist(), uv.max(axis=1).tolist()  # [N,C,2]
-        near = np.clip(eyes[:, None, :], lo, hi) - eyes[:, None, :]
+        near = np.clip(self._eyes[:, None, :], lo, hi) - self._eyes[:, None, :]
         dist = np.sqrt((near * near).sum(axis=2)).tolist()  # [C,N]
+        lo_l, hi_l = lo.tolist(), hi.tolist()
         out = []
         for i, b in enumerate(boxes):
-            faces = {}
-            for c, name in enumerate(names):
-                vis = visible[c][i]
-                faces[name] = [(q, g) for q, g, v in zip(quads[c, i], shades[i], vis, strict=True)
-                               if v]
+            shade = _FLAT_SHADES.get(b.kind, shades[i])
+            faces = {name: [(q, g) for q, g, v in zip(quads[c, i], shade, visible[c][i],
+                                                      strict=True) if v]
+                     for c, name in enumerate(names)}
             creases = ({name: [q for q, _ in faces[name]] for name in names}
                        if b.kind == "block" else None)
             out.append(_Drawn(b.kind, tuple(lo_l[i]), tuple(hi_l[i]), faces, creases,
