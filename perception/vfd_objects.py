@@ -20,6 +20,7 @@ import numpy as np
 
 from .frames import Frame
 from .vfd import DARK_MAX, VFD
+from .vfd_objects_match import SilhouetteCheck, assign
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
@@ -50,12 +51,7 @@ class ObjectFinder(VFD):
     def find(self, frame: Frame, shapes: Mapping[str, Sequence[float]]) -> list[FoundObject]:
         """Segment, correspond, measure and name every block visible in ``frame``."""
         faces = self._top_faces(frame.top)
-        (w, h) = self.cameras["side"].size
-        side_win = self.resources.allocate("side", (0, 0, w, h))
-        try:
-            side_img = side_win.read(frame.side)
-        finally:
-            self.resources.free(side_win)
+        side_img = self._read_full("side", frame.side)
         # Side-view top faces, each grown by a pixel (the crease on its outline is its own).
         n, labels, stats, _ = cv2.connectedComponentsWithStats(
             (side_img >= TOP_MIN).astype(np.uint8), connectivity=4)
@@ -65,24 +61,34 @@ class ObjectFinder(VFD):
         m, blobs, _, _ = cv2.connectedComponentsWithStats(solid.astype(np.uint8), connectivity=8)
         blob_areas = np.bincount(blobs.ravel(), minlength=m)
         # Correspondence (Sec. III-B): every top face proposes (score, height, side face)
-        # candidates; a side-view top face belongs to one block only, so the pairs are
-        # taken best first. A face lifted to a wrong height can land on the top face of a
-        # block in front of it (same width, on the same view line): that block's own,
-        # better-fitting claim takes the side face and the right height wins instead.
-        claims = sorted(((sc, k, lab, h) for k, rect in enumerate(faces)
-                         for sc, h, lab in self._heights(rect, labels, areas, solid)),
-                        reverse=True)
-        heights: dict[int, tuple[float, float]] = {}
-        taken: set[int] = set()
-        for sc, k, lab, h in claims:
-            if k not in heights and lab not in taken:
-                heights[k] = (h, sc)
-                taken.add(lab)
+        # candidates; a side-view top face belongs to one block only, and the pairing
+        # must explain both whole views (vfd_objects_match).
+        cands = [self._heights(rect, labels, areas, solid) for rect in faces]
+        fallback: dict[int, tuple[float, float]] = {}
+
+        def height_of(k: int, pairing: dict[int, tuple[float, float]]) -> tuple[float, float]:
+            """A face's (height, score): its pairing, else the silhouette search."""
+            if k in pairing and pairing[k][1] >= MIN_SCORE:
+                return pairing[k]
+            if k not in fallback:  # the top face is too thin to see from the side
+                fallback[k] = self._height_from_silhouette(faces[k], blobs, blob_areas)
+            return fallback[k]
+
+        def cost(pairing: dict[int, tuple[float, float]]) -> int:
+            """Pixels the pairing's boxes get wrong in the two views."""
+            cols = []
+            for k, rect in enumerate(faces):
+                h, sc = height_of(k, pairing)
+                if sc >= MIN_SCORE:
+                    cols.append((*self._footprint(rect, h), h))
+            return check.wrong_pixels(cols)
+
+        check = SilhouetteCheck(self.cameras, {"top": self._read_full("top", frame.top) >
+                                               DARK_MAX, "side": solid})
+        pairing = assign(cands, cost)
         boxes = []
         for k, rect in enumerate(faces):
-            height, score = heights.get(k, (0.0, 0.0))
-            if score < MIN_SCORE:  # the top face is too thin to see from the side
-                height, score = self._height_from_silhouette(rect, blobs, blob_areas)
+            height, score = height_of(k, pairing)
             if score < MIN_SCORE:
                 continue
             boxes.append((height, self._footprint(rect, height), rect))
@@ -113,6 +119,15 @@ class ObjectFinder(VFD):
         self._found = bool(found)
         self._target = np.array([f.position for f in found]) if found else None
         return found
+
+    def _read_full(self, cam: str, image: np.ndarray) -> np.ndarray:
+        """The whole image of camera ``cam``, read through a resource window."""
+        (w, h) = self.cameras[cam].size
+        win = self.resources.allocate(cam, (0, 0, w, h))
+        try:
+            return win.read(image)
+        finally:
+            self.resources.free(win)
 
     def _hidden_stack(self, obj: FoundObject, base: float, front: float, side: np.ndarray,
                       shapes: Mapping[str, Sequence[float]], ring=None
@@ -210,9 +225,14 @@ class ObjectFinder(VFD):
             finally:
                 self.resources.free(fine)
             m, _, fst, _ = cv2.connectedComponentsWithStats(face, connectivity=4)
+            fh_, fw_ = face.shape
             for j in range(1, m):
                 fx, fy, fw, fh, area = fst[j]
-                if area >= MIN_FACE_PX:
+                # The window reaches a coarse step past its blob: a face cut by its
+                # border is a neighbouring blob's, found whole in that blob's window.
+                cut = (fx == 0 and fine.x0 > 0) or (fy == 0 and fine.y0 > 0) or \
+                    (fx + fw == fw_ and fine.x0 + fw_ < w) or (fy + fh == fh_ and fine.y0 + fh_ < h)
+                if area >= MIN_FACE_PX and not cut:
                     # Pixel centres are at integer coordinates. The crease line is drawn
                     # on the face outline, so the edge runs through the crease pixels
                     # just outside the bright face.

@@ -1,0 +1,94 @@
+"""Object-finder correspondence: which side-view top face belongs to which top face.
+
+Each top-view face proposes a few (score, height, side face) candidates (see
+``ObjectFinder._heights``). A side-view top face is the top of one block only,
+so pairs are taken best first. That alone can still pair wrongly: a block's
+footprint lifted to a wrong height lands on the top face of a block in front
+of it on nearly the same view line, and the two fits can score alike. The
+pairing is therefore checked against both whole views (Sec. III-B uses the two
+views together): the boxes [footprint] x [0, h] of a pairing, drawn as
+silhouettes, must reproduce the non-dark pixels of the top and side images;
+alternatives that reproduce them better replace the greedy choice.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import cv2
+import numpy as np
+
+Candidate = tuple[float, float, int]  # (score, height mm, side-view face label)
+
+
+def greedy(cands: Sequence[Sequence[Candidate]], forced: dict[int, Candidate]
+           ) -> dict[int, tuple[float, float]]:
+    """Faces -> (height, score): ``forced`` choices first, then the best free claims."""
+    out: dict[int, tuple[float, float]] = {}
+    taken: set[int] = set()
+    for k, (sc, h, lab) in forced.items():
+        out[k] = (h, sc)
+        taken.add(lab)
+    claims = sorted(((sc, k, lab, h) for k, cs in enumerate(cands) if k not in forced
+                     for sc, h, lab in cs), reverse=True)
+    for sc, k, lab, h in claims:
+        if k not in out and lab not in taken:
+            out[k] = (h, sc)
+            taken.add(lab)
+    return out
+
+
+def assign(cands: Sequence[Sequence[Candidate]], cost: Callable[[dict[int, tuple]], int],
+           passes: int = 3) -> dict[int, tuple[float, float]]:
+    """The pairing whose boxes best explain both views, starting from the greedy one.
+
+    ``cost`` maps a pairing {face: (height, score)} to the number of pixels its
+    silhouettes get wrong. Each pass tries every face's other candidates (the
+    faces they displace take their best remaining claim) and keeps the best
+    improvement as a fixed choice.
+    """
+    forced: dict[int, Candidate] = {}
+    best = greedy(cands, forced)
+    if all(len(cs) < 2 for cs in cands):
+        return best
+    best_cost = cost(best)
+    for _ in range(passes):
+        improved = None
+        for k, cs in enumerate(cands):
+            if k in forced:
+                continue
+            for c in cs:
+                if best.get(k, (None,))[0] == c[1]:
+                    continue
+                trial = greedy(cands, {**forced, k: c})
+                tc = cost(trial)
+                if tc < best_cost:
+                    best, best_cost, improved = trial, tc, (k, c)
+        if improved is None:
+            break
+        forced[improved[0]] = improved[1]
+    return best
+
+
+class SilhouetteCheck:
+    """Counts the pixels a set of boxes gets wrong against both views' non-dark masks."""
+
+    def __init__(self, cameras: dict, solid: dict[str, np.ndarray]) -> None:
+        """``solid``: per camera name, the boolean mask of non-dark pixels."""
+        self.cameras = cameras
+        self.solid = {name: m.astype(np.uint8) for name, m in solid.items()}
+
+    def wrong_pixels(self, boxes: Sequence[tuple[float, float, float, float, float]]) -> int:
+        """Pixels where boxes (x0, y0, x1, y1, h) on the table disagree with the views."""
+        total = 0
+        for name, actual in self.solid.items():
+            cam = self.cameras[name]
+            drawn = np.zeros_like(actual)
+            for x0, y0, x1, y1, h in boxes:
+                corners = np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1)
+                                    for z in (0.0, h)])
+                uv = cam.project(corners)
+                hull = cv2.convexHull(np.rint(uv * 16).astype(np.int32))
+                cv2.fillConvexPoly(drawn, hull, 1, cv2.LINE_8, 4)
+            total += int(cv2.countNonZero(cv2.bitwise_xor(drawn, actual)))
+        return total
