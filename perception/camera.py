@@ -8,6 +8,7 @@ mapping homogeneous world millimetres to pixels (u = column, v = row).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -29,6 +30,13 @@ class Camera:
         self._M_inv = np.linalg.inv(M)
         # Camera centre: the null vector of P, C = -M^-1 p4.
         self.center = -self._M_inv @ self.P[:, 3]
+        # Plain-float copies for the per-frame fast paths (the trackers call view_line and
+        # triangulate for single points, where numpy's per-call cost dominates).
+        self._minv = [tuple(r) for r in self._M_inv.tolist()]
+        self._axis = tuple(self.P[2, :3].tolist())
+        self._c = tuple(self.center.tolist())
+        self._depth = (*self._axis, float(self.P[2, 3]), float(np.linalg.norm(self.P[2, :3])))
+        self._fx = float(self.P[0, 0])
 
     @classmethod
     def look_at(
@@ -67,17 +75,26 @@ class Camera:
 
     def view_line(self, uv: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
         """Back-project pixel ``uv``: (origin = camera centre, unit direction) in world mm."""
-        d = self._M_inv @ np.array([uv[0], uv[1], 1.0])
-        if d @ self.P[2, :3] < 0:  # point the ray to the front of the camera
-            d = -d
-        return self.center.copy(), d / np.linalg.norm(d)
+        return np.array(self._c), np.array(self._ray(float(uv[0]), float(uv[1])))
+
+    def _ray(self, u: float, v: float) -> tuple[float, float, float]:
+        """Unit direction of the view line of pixel (u, v), pointing to the front."""
+        (a0, a1, a2), (b0, b1, b2), (c0, c1, c2) = self._minv
+        x, y, z = a0 * u + a1 * v + a2, b0 * u + b1 * v + b2, c0 * u + c1 * v + c2
+        k0, k1, k2 = self._axis
+        n = math.sqrt(x * x + y * y + z * z)
+        if x * k0 + y * k1 + z * k2 < 0:  # point the ray to the front of the camera
+            n = -n
+        return x / n, y / n, z / n
 
     def point_on_plane(self, uv: Sequence[float], axis: int, value: float) -> np.ndarray:
         """Intersect the view line of ``uv`` with the plane {x[axis] = value} (0=x, 1=y, 2=z)."""
-        o, d = self.view_line(uv)
+        d = self._ray(float(uv[0]), float(uv[1]))
         if abs(d[axis]) < 1e-9:
             raise ValueError("view line is parallel to the plane")
-        return o + d * ((value - o[axis]) / d[axis])
+        o = self._c
+        k = (value - o[axis]) / d[axis]
+        return np.array([o[0] + d[0] * k, o[1] + d[1] * k, o[2] + d[2] * k])
 
     def point_on_plane_z(self, uv: Sequence[float], z: float) -> np.ndarray:
         """Intersect the view line of ``uv`` with the horizontal plane at height ``z``."""
@@ -85,7 +102,9 @@ class Camera:
 
     def mm_to_px(self, point: Sequence[float]) -> float:
         """Pixels per millimetre for a small length near ``point`` (perspective scale)."""
-        return float(self.P[0, 0] / self.depth(np.asarray(point, float))[0])
+        k0, k1, k2, k3, norm = self._depth
+        x, y, z = (float(v) for v in point)
+        return self._fx / ((k0 * x + k1 * y + k2 * z + k3) / norm)
 
     def box_region(
         self, lo: Sequence[float], hi: Sequence[float], margin: int = 0
@@ -104,15 +123,22 @@ class Camera:
 def triangulate(cam_a: Camera, uv_a: Sequence[float], cam_b: Camera, uv_b: Sequence[float]
                 ) -> np.ndarray:
     """Least-squares crossing point of the two view lines (Sec. III-A, the SFD)."""
-    lines = [cam_a.view_line(uv_a), cam_b.view_line(uv_b)]
-    # Minimise the summed squared distance to both lines: sum_i (I - d d^T)(x - o_i) = 0.
-    A = np.zeros((3, 3))
-    b = np.zeros(3)
-    for o, d in lines:
-        Q = np.eye(3) - np.outer(d, d)
-        A += Q
-        b += Q @ o
-    return np.linalg.solve(A, b)
+    # For two lines the point minimising the summed squared distances is the midpoint of
+    # their common perpendicular (closed form; the 3x3 normal equations give the same).
+    o, p = cam_a._c, cam_b._c
+    d = cam_a._ray(float(uv_a[0]), float(uv_a[1]))
+    e = cam_b._ray(float(uv_b[0]), float(uv_b[1]))
+    w = (o[0] - p[0], o[1] - p[1], o[2] - p[2])
+    b = d[0] * e[0] + d[1] * e[1] + d[2] * e[2]
+    dw = d[0] * w[0] + d[1] * w[1] + d[2] * w[2]
+    ew = e[0] * w[0] + e[1] * w[1] + e[2] * w[2]
+    den = 1.0 - b * b
+    if den < 1e-12:  # (nearly) parallel lines: no single crossing
+        raise np.linalg.LinAlgError("view lines are parallel")
+    s, t = (b * ew - dw) / den, (ew - b * dw) / den
+    return np.array([(o[0] + s * d[0] + p[0] + t * e[0]) / 2.0,
+                     (o[1] + s * d[1] + p[1] + t * e[1]) / 2.0,
+                     (o[2] + s * d[2] + p[2] + t * e[2]) / 2.0])
 
 
 def _fit_focal(eye, target, up, size, margin=6.0) -> float:

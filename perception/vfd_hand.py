@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Mapping, Sequence
 
+import cv2
 import numpy as np
 
 from .camera import Camera
@@ -42,6 +43,13 @@ HOLDER_ABOVE_TIPS_MM = 10.0  # the holder (hand centre) sits this far above the 
 FINGER_FRONT_MM = 10.0  # the side camera sees the fingertips' front edge, this far forward
 
 
+# Finger window offsets point away from the palm (Sec. III-C3). The fingers hang below the
+# palm, so "away" is down and a little outwards: the window then settles with the
+# fingertip inside it (Fig. 3(c)). Half the window long, as in the paper.
+_FINGER_OFFSET = {side: np.array([side * 0.3, 1.0]) / np.hypot(0.3, 1.0) * (FINGER_WIN[1] / 2.0)
+                  for side in (-1, 1)}
+
+
 class _Tracker:
     """One feedback-controlled window: moves to feature + offset, offset reverses on loss."""
 
@@ -56,29 +64,29 @@ class _Tracker:
 
     def place(self, center: Sequence[float]) -> None:
         """Move the window centre to ``center``."""
-        self.center = np.asarray(center, float).copy()
-        self.window.move_to(*self.center, *self.size, self.image_size)
+        self.center = np.array(center, dtype=float)
+        cx, cy = self.center.tolist()  # plain floats: the window arithmetic is scalar
+        self.window.move_to(cx, cy, self.size[0], self.size[1], self.image_size)
 
     def step(self, image: np.ndarray) -> bool:
         """One tracking cycle (Sec. III-C2 steps 1-4); False if the target is lost."""
         w = self.window
         sub = w.read(image)
-        mask = band(sub, *HAND_BAND)
-        # Centre of mass from the row and column counts: the same GGE feature as
-        # vfd.centroid, with a few small reductions instead of nonzero + two means
+        mask = cv2.inRange(sub, HAND_BAND[0], HAND_BAND[1])  # 255 in the hand band
+        # Centre of mass from the mask's moments: the same GGE feature as vfd.centroid
+        # (exact integer sums), in one cv2 call instead of several numpy reductions
         # (this runs for four windows every frame).
-        per_row = np.count_nonzero(mask, axis=1)
-        n = int(per_row.sum())
+        m = cv2.moments(mask, True)
+        n = int(m["m00"])
         if n < MIN_PIXELS:
             self.feature = None
             self.offset, self.sign = -self.offset, -self.sign  # Fig. 3(d): local recovery
             self.place(self.center + self.offset)
             return False
-        per_col = np.count_nonzero(mask, axis=0)
-        cy = float(per_row @ np.arange(len(per_row))) / n
-        cx = float(per_col @ np.arange(len(per_col))) / n
+        cx, cy = m["m10"] / n, m["m01"] / n
         self.feature = np.array([w.x0 + cx, w.y0 + cy])
-        rows = np.flatnonzero(per_row >= 2)  # a lone noisy pixel is no fingertip
+        per_row = cv2.reduce(mask, 1, cv2.REDUCE_SUM, dtype=cv2.CV_32S)  # 255 per pixel
+        rows = np.flatnonzero(per_row >= 2 * 255)  # a lone noisy pixel is no fingertip
         self.tip = w.y0 + float(rows[-1] if len(rows) else cy)
         self.place(self.feature + self.offset)
         return True
@@ -168,11 +176,7 @@ class HandTracker(VFD):
         s = self.cameras["side"].mm_to_px(palm3d)
         pf = self.palm["side"].feature
         for side, f in zip((-1, 1), self.fingers, strict=True):
-            # Offsets point away from the palm (Sec. III-C3). The fingers hang below the
-            # palm, so "away" is down and a little outwards: the window then settles with
-            # the fingertip inside it (Fig. 3(c)). Half the window long, as in the paper.
-            f.offset = f.sign * np.array([side * 0.3, 1.0]) / np.hypot(0.3, 1.0) \
-                * (FINGER_WIN[1] / 2.0)
+            f.offset = f.sign * _FINGER_OFFSET[side]
             if f.step(side_img):
                 f.sign = 1.0
             else:
@@ -185,8 +189,9 @@ class HandTracker(VFD):
         tips = [f.tip for f in good]
         if len(tips) == 2 and abs(tips[0] - tips[1]) > 2:
             tips = [max(tips)]  # the other one is not at a fingertip: the tips are the lowest
+        tip_v = sum(tips) / len(tips) if tips else 0.0
         if tips:
-            uv = (self.holder.center[0], float(np.mean(tips)))
+            uv = (self.holder.center[0], tip_v)
             front = palm3d[1] - FINGER_FRONT_MM
             z = self.cameras["side"].point_on_plane(uv, 1, front)[2] + HOLDER_ABOVE_TIPS_MM
         elif self._target is not None:
@@ -196,7 +201,7 @@ class HandTracker(VFD):
         x = palm3d[0]
         if len(good) == 2:  # the grip centre is midway between the fingers: x from the side
             mid = (good[0].feature[0] + good[1].feature[0]) / 2.0
-            x = self.cameras["side"].point_on_plane((mid, float(np.mean(tips))), 1,
+            x = self.cameras["side"].point_on_plane((mid, tip_v), 1,
                                                     palm3d[1] - FINGER_FRONT_MM)[0]
         hx = np.array([x, palm3d[1], z])
         self._target = hx
@@ -259,7 +264,8 @@ class HandTracker(VFD):
     def _measure_holder(self, side_img: np.ndarray) -> None:
         """Fraction of block-white pixels between the fingers (a held object, Sec. III-C3)."""
         sub = self.holder.window.read(side_img)
-        self.holding_evidence = float(np.count_nonzero(sub >= BLOCK_MIN)) / max(1, sub.size)
+        white = cv2.countNonZero(cv2.inRange(sub, BLOCK_MIN, 255))
+        self.holding_evidence = float(white) / max(1, sub.size)
 
     # -- queries -------------------------------------------------------------------------
     @property
