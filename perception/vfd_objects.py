@@ -299,7 +299,7 @@ class ObjectFinder(VFD):
             top = max(fine)[0]
             hits = [h for s, h in fine if s >= top - 1e-9]
             out.append((max(sc0, top), float(np.mean(hits)), lab))
-        return out
+        return sorted(out, reverse=True)
 
     def _height_from_silhouette(self, rect, blobs: np.ndarray, areas: np.ndarray
                                 ) -> tuple[float, float]:

@@ -19,6 +19,8 @@ import cv2
 import numpy as np
 
 Candidate = tuple[float, float, int]  # (score, height mm, side-view face label)
+AMBIGUOUS = 0.15  # a candidate this close to a face's best score is a real alternative
+MIN_GAIN_PX = 12  # fewer wrong pixels than this is not evidence (edges, occlusion)
 
 
 def greedy(cands: Sequence[Sequence[Candidate]], forced: dict[int, Candidate]
@@ -43,9 +45,11 @@ def assign(cands: Sequence[Sequence[Candidate]], cost: Callable[[dict[int, tuple
     """The pairing whose boxes best explain both views, starting from the greedy one.
 
     ``cost`` maps a pairing {face: (height, score)} to the number of pixels its
-    silhouettes get wrong. Each pass tries every face's other candidates (the
-    faces they displace take their best remaining claim) and keeps the best
-    improvement as a fixed choice.
+    silhouettes get wrong. Each pass tries every face's other candidates that
+    fit the side view nearly as well as its best one (the faces they displace
+    take their best remaining claim) and keeps the best improvement as a fixed
+    choice. Only near-ties are reopened: the silhouettes of boxes standing on
+    the table are a coarse model where blocks hide each other.
     """
     forced: dict[int, Candidate] = {}
     best = greedy(cands, forced)
@@ -58,11 +62,11 @@ def assign(cands: Sequence[Sequence[Candidate]], cost: Callable[[dict[int, tuple
             if k in forced:
                 continue
             for c in cs:
-                if best.get(k, (None,))[0] == c[1]:
+                if c[0] < cs[0][0] - AMBIGUOUS or best.get(k, (None,))[0] == c[1]:
                     continue
                 trial = greedy(cands, {**forced, k: c})
                 tc = cost(trial)
-                if tc < best_cost:
+                if tc < best_cost - MIN_GAIN_PX:
                     best, best_cost, improved = trial, tc, (k, c)
         if improved is None:
             break

@@ -21,6 +21,7 @@ ROWS = [
     (1016, "execute", "nominal", 7, "bricks in line: back one 7 mm, front one 89 mm tall"),
     (1022, "teach", "2x", 11, "a block behind a block: disc phantom on a 64 mm block"),
     (1027, "teach", "nominal", 6, "a cube's face cut by a neighbour's window: phantom brick"),
+    (1076, "execute", "nominal", 9, "a disc before a beam: a near-tie check lifted it to 48 mm"),
     (1051, "execute", "4x", 7, "the pyramid case at four times the pixel noise"),
     (1075, "teach", "4x", 9, "the inverted-arch case at four times the pixel noise"),
     (1003, "execute", "2x", None, "a generated workspace that always worked"),
