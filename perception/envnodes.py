@@ -54,6 +54,8 @@ DESCENT_MM = 30.0  # ... after coming down at least this far since :Near
 SETTLE_FRAMES = 5  # tracked frames after a (re)placement before the velocity is trusted
 FAR_FRAMES = 2  # :Far holds on this many frames in a row (one-frame height jumps)
 FAST_S = 0.1  # s: the fast-rise :Far cue must last this long (tremor peaks are shorter)
+REACHED_MM = 35.0  # :Join needs the hand (held block) within this of the target's top;
+# a hesitation on the way down stops well above that (>= 55 mm above the grasp)
 SPLIT_MM = 8.0  # :Split once it has risen this much above where it joined
 
 
@@ -227,13 +229,26 @@ class Eyes:
         if self.hand is None or self.low is None:
             return None
         if (self.speed() < self.v_slow and self.hand[2] - self.low < JOIN_MM
-                and self.high - self.low > DESCENT_MM):
+                and self.high - self.low > DESCENT_MM and self.reached(target, env)):
             self.joined_at = float(self.hand[2])
             locs = [n for n in target if n.kind == "Loc" and n.position is not None]
             if not env.held() and len(locs) == 1:  # where a grasp would hold it
                 self.grip = np.asarray(locs[0].position, float) - self.hand
             return self.hand_detection()
         return None
+
+    def reached(self, target: Sequence[EnvNode], env: EnvModel) -> bool:
+        """Whether the hand has come down to its target, not paused on the way (a hesitation).
+
+        A held block must have reached the top of what it is put on (its supports, or
+        the table); an empty hand the height of the target's top (a grasp holds a block
+        below its top face, a touch comes down onto it).
+        """
+        tops = [n.top() for n in target if n.kind == "Loc" and n.position is not None]
+        held = held_box(self, env)
+        if held is not None:
+            return float(held[1].lo[2]) <= max(tops, default=0.0) + REACHED_MM
+        return not tops or float(self.hand[2]) <= max(tops) + REACHED_MM
 
     def split(self, env: EnvModel) -> Detection | None:
         """Hand rising away from where it joined."""
