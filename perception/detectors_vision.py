@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 TOP_TOLERANCE_MM = 15.0  # confirmed targets: tops within this of the highest one (a support set)
 SUPPORT_TOLERANCE_MM = 8.0  # the held block's centre may lie this far off its supports' boxes
+TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
 PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, align slide)
 PICK_MARGIN_MM = 8.0
 HOLDING, EMPTY = 0.3, 0.1  # block fraction of the holder window: an object held / none
@@ -91,9 +92,13 @@ class SearchNode:
             return ()
         regions, skip = self.regions(env)
         held = held_box(self.eyes, env)
+        # The held block hangs over the searched place in both views: leave its outline out
+        # (grown by 2 mm, for the tremor) so only what lies below it can be found.
+        exclude = [] if held is None else [
+            Region3D(tuple(np.asarray(held[1].lo) - 2.0), tuple(np.asarray(held[1].hi) + 2.0))]
         for region in regions:
             self.finder.attention(region)
-            if self.finder.look(self.eyes.frame) is not None:
+            if self.finder.look(self.eyes.frame, exclude) is not None:
                 names = self.confirm(region, env, skip, held[1] if held else None)
                 if names:
                     self.last = region
@@ -102,6 +107,27 @@ class SearchNode:
                 self.last = region  # reached the table with no block below: the table
                 return (TABLE,)
         return ()
+
+    def grasped(self, hits: Sequence[EnvNode], env: EnvModel) -> tuple[str, ...]:
+        """The one block an empty hand is reaching for among the blocks found below it.
+
+        At :Near the hand may still be 20 mm beside the grasp point, so a rider on a
+        plank can reach into the hand-sized region before the plank does. The blocks
+        found and what they rest on are candidates; the one whose centre is nearest the
+        hand wins, the upper one on a near tie (a tower's blocks are centred on each other).
+        """
+        cands = {n.name: n for n in hits}
+        todo = list(hits)
+        while todo:
+            for below in env.get(env.supports_of(todo.pop().name)):
+                if below.kind == "Loc" and below.position is not None and below.name not in cands:
+                    cands[below.name] = below
+                    todo.append(below)
+        hand = np.asarray(self.eyes.hand[:2], float)
+        dist = {name: float(np.hypot(*(np.asarray(n.position[:2]) - hand)))
+                for name, n in cands.items()}
+        near = min(dist.values()) + TIE_MM
+        return (max((n for n in cands.values() if dist[n.name] <= near), key=EnvNode.top).name,)
 
     def confirm(self, region: Region3D, env: EnvModel, skip: set[str],
                 held: Region3D | None) -> tuple[str, ...]:
@@ -114,6 +140,8 @@ class SearchNode:
                 if n.name not in skip]
         if not hits:
             return ()
+        if held is None:
+            return self.grasped(hits, env)
         top = max(n.top() for n in hits)
         hits = [n for n in hits if n.top() >= top - TOP_TOLERANCE_MM]
         if held is not None:
@@ -179,10 +207,13 @@ class ChangeNode:
             # The region may be hidden at the end (the palm above it in the top view, a block
             # in front of it in the side view); the holder window between the fingers
             # (Sec. III-C3) then tells whether the object left or joined the hand.
+            # Only the way the env model allows: a block can leave the hand only if the motion
+            # carried one (its special slot), and join it only if the hand came empty (a block
+            # seen between open fingers above a touched one is not a grasp).
             before, after = first["hold"], self.eyes.tracker.holding_evidence
-            if before >= HOLDING and after <= EMPTY:
+            if act.special and before >= HOLDING and after <= EMPTY:
                 result = APPEARED
-            elif before <= EMPTY and after >= HOLDING:
+            elif not act.special and before <= EMPTY and after >= HOLDING:
                 result = DISAPPEARED
         if result == APPEARED and self.eyes.release is not None:
             # The side camera looks along +y: it fixes x (and z) of the changed area well but
