@@ -110,7 +110,7 @@ def run(seeds: range, levels: list[str], sets: list[str]) -> dict[str, Tally]:
                 t.phantoms += ghost
                 t.wrong_shape += wrong
                 t.errors += errs
-                if miss or ghost or wrong or (errs and max(errs) > 5.0):
+                if miss or ghost or wrong or (errs and max(errs) > 5.0):  # any error > 5 mm
                     t.bad.append(f"{seed}/{which}: miss {miss} phantom {ghost} shape {wrong} "
                                  f"max err {max(errs, default=0):.1f}")
     return out
@@ -132,7 +132,8 @@ def main(argv: list[str]) -> dict:
     figures: dict[str, float] = {}
     for level, t in tallies.items():
         e = np.array(t.errors or [0.0])
-        row = {"workspaces": t.workspaces, "blocks": t.blocks, "misses": t.misses,
+        row = {"workspaces": t.workspaces, "blocks": t.blocks, "wrong_workspaces": len(t.bad),
+               "misses": t.misses,
                "phantoms": t.phantoms, "wrong_shape": t.wrong_shape,
                "err_median_mm": float(np.median(e)), "err_p95_mm": float(np.percentile(e, 95)),
                "ms_median": 1000 * float(np.median(t.times)),
