@@ -138,10 +138,17 @@ class Gripper:
         """Centre x of a finger for a given opening."""
         return self.body.position[0] + side * (opening + self.geometry.finger[0]) / 2
 
-    def _place_fingers(self, dt: float) -> None:
-        """Give the fingers the velocity that brings them to the current opening."""
-        hx, hz = self.body.position
-        vx, vz = self.body.velocity
+    def _place_fingers(self, dt: float, state: tuple[float, float, float, float] | None = None
+                       ) -> None:
+        """Give the fingers the velocity that brings them to the current opening.
+
+        ``state`` = the hand body's (x, z, vx, vz) when the caller has just read and set
+        them (each pymunk property access builds a Vec2d; this runs every substep)."""
+        if state is None:
+            hx, hz = self.body.position
+            vx, vz = self.body.velocity
+        else:
+            hx, hz, vx, vz = state
         fz = hz - TIP + self.geometry.finger[2] / 2
         for side, body, _ in self.fingers:
             want = hx + vx * dt + side * (self.opening + self.geometry.finger[0]) / 2
@@ -168,7 +175,7 @@ class Gripper:
             self.opening += max(-step, min(step, d))
             if self._closing:
                 self._check_grasp()
-        self._place_fingers(dt)
+        self._place_fingers(dt, (px, pz, vx, vz))
 
     def _check_grasp(self) -> None:
         """Stop closing when both fingers touch one block, and hold it."""

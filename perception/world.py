@@ -49,6 +49,7 @@ class World:
         space.gravity = (0.0, -GRAVITY)
         space.iterations = iterations
         space.sleep_time_threshold = 0.3  # resting blocks sleep: cheap idle frames
+        self._sleep_s = space.sleep_time_threshold
         space.idle_speed_threshold = 2.0  # mm/s
         space.collision_slop = SLOP
         table = pymunk.Poly(space.static_body, [(TABLE_X[0], -20), (TABLE_X[1], -20),
@@ -60,6 +61,7 @@ class World:
         self.sizes: dict[str, tuple[float, float, float]] = {}
         self.y: dict[str, float] = {}
         self.grippers: list[Gripper] = []
+        self._boxes: dict[str, tuple[float, Box]] = {}  # scene boxes of sleeping blocks
         specs = {spec.name: spec for spec in objects}
         for spec in specs.values():
             # Start each block sunk by the contact slop per level so that its
@@ -185,10 +187,26 @@ class World:
     def scene(self) -> list[Box]:
         """The renderer's view of the world: blocks, then each present gripper."""
         out = []
+        cache = self._boxes
         for name in self.names:
             body = self.shapes[name].body
+            y = self.y[name]
+            # A body asleep now and when its box was made, less than the sleep time
+            # threshold ago, has not moved (pymunk wakes a body that is moved or hit, and
+            # a woken body needs that long at rest to sleep again): reuse the box.
+            asleep = body.is_sleeping
+            prev = cache.get(name)
+            if asleep and prev is not None and self.time - prev[0] < self._sleep_s and \
+                    prev[1].center[1] == y:
+                out.append(prev[1])
+                continue
             x, z = body.position
-            out.append(Box("block", (x, self.y[name], z), self.sizes[name], body.angle, name))
+            box = Box("block", (x, y, z), self.sizes[name], body.angle, name)
+            if asleep:
+                cache[name] = (self.time, box)
+            else:
+                cache.pop(name, None)
+            out.append(box)
         for g in self.grippers:
             if g.present:
                 out.extend(g.boxes())
