@@ -56,6 +56,8 @@ FAR_FRAMES = 2  # :Far holds on this many frames in a row (one-frame height jump
 FAST_S = 0.1  # s: the fast-rise :Far cue must last this long (tremor peaks are shorter)
 REACHED_MM = 35.0  # :Join needs the hand (held block) within this of the target's top;
 # a hesitation on the way down stops well above that (>= 55 mm above the grasp)
+MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target) lasts longer
+NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
 SPLIT_MM = 8.0  # :Split once it has risen this much above where it joined
 
 
@@ -99,6 +101,7 @@ class Eyes:
         self.raw: deque[np.ndarray] = deque(maxlen=3)  # last tracker positions (median of 3)
         self.joined_at: float | None = None  # hand height at the last :Join
         self.release: np.ndarray | None = None  # hand position at the last :Split
+        self.t_far = -np.inf  # when :Far last fired (a Transfer began)
         self.grip = np.zeros(3)  # held block centre minus hand, measured at the grasp
         self.pixels: list[int] = []  # pixels read per frame (benchmark)
         self.search = SearchNode(self)
@@ -221,6 +224,7 @@ class Eyes:
         self.off_frames = self.off_frames + 1 if outside else 0
         if self.off_frames >= FAR_FRAMES or fast:
             self.low, self.work, self.fast_since = None, None, None
+            self.t_far = self.t
             return self.hand_detection(t=self.path.onset(self.t))
         return None
 
@@ -375,6 +379,12 @@ class _Search(_Node):
 
     def near(self, base, target, env) -> Detection | None:
         """Guided visual search below the hand, confirmed in the env model (Sec. III-E)."""
+        eyes = self.eyes
+        if (eyes.settled < SETTLE_FRAMES or eyes.speed() > NEAR_SPEED * eyes.v_fast
+                or eyes.t - eyes.t_far < MIN_TRANSFER_S):
+            # a hand that stopped once and sped on (leaving) is not arriving, nor one whose
+            # Transfer has only just begun; just after a re-placement its velocity is unknown
+            return None
         found = self.eyes.search.near(env)
         if found:
             self.eyes.near_found(found, env)
