@@ -89,12 +89,17 @@ class Camera:
 
     def point_on_plane(self, uv: Sequence[float], axis: int, value: float) -> np.ndarray:
         """Intersect the view line of ``uv`` with the plane {x[axis] = value} (0=x, 1=y, 2=z)."""
+        return np.array(self.plane_point(uv, axis, value))
+
+    def plane_point(self, uv: Sequence[float], axis: int, value: float
+                    ) -> tuple[float, float, float]:
+        """``point_on_plane`` as a tuple of floats (for per-frame trackers)."""
         d = self._ray(float(uv[0]), float(uv[1]))
         if abs(d[axis]) < 1e-9:
             raise ValueError("view line is parallel to the plane")
         o = self._c
         k = (value - o[axis]) / d[axis]
-        return np.array([o[0] + d[0] * k, o[1] + d[1] * k, o[2] + d[2] * k])
+        return o[0] + d[0] * k, o[1] + d[1] * k, o[2] + d[2] * k
 
     def point_on_plane_z(self, uv: Sequence[float], z: float) -> np.ndarray:
         """Intersect the view line of ``uv`` with the horizontal plane at height ``z``."""

@@ -17,6 +17,7 @@ last samples (robust to pixel noise and tremor).
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from collections.abc import Mapping, Sequence
 
@@ -46,26 +47,29 @@ FINGER_FRONT_MM = 10.0  # the side camera sees the fingertips' front edge, this 
 # Finger window offsets point away from the palm (Sec. III-C3). The fingers hang below the
 # palm, so "away" is down and a little outwards: the window then settles with the
 # fingertip inside it (Fig. 3(c)). Half the window long, as in the paper.
-_FINGER_OFFSET = {side: np.array([side * 0.3, 1.0]) / np.hypot(0.3, 1.0) * (FINGER_WIN[1] / 2.0)
-                  for side in (-1, 1)}
+_FINGER_OFFSET = {side: tuple((np.array([side * 0.3, 1.0]) / np.hypot(0.3, 1.0)
+                               * (FINGER_WIN[1] / 2.0)).tolist()) for side in (-1, 1)}
 
 
 class _Tracker:
-    """One feedback-controlled window: moves to feature + offset, offset reverses on loss."""
+    """One feedback-controlled window: moves to feature + offset, offset reverses on loss.
+
+    Points are (x, y) tuples of floats: every frame moves the five windows several times,
+    and 2-vector numpy arithmetic costs a microsecond per operation.
+    """
 
     def __init__(self, window: Window, size: tuple[int, int], image_size: tuple[int, int]) -> None:
         """Wrap an allocated ``window`` of ``size`` (w, h) px."""
         self.window, self.size, self.image_size = window, size, image_size
-        self.center = np.array(window.center, float)
-        self.offset = np.zeros(2)
+        self.center: tuple[float, float] = window.center
+        self.offset = (0.0, 0.0)
         self.sign = 1.0  # -1 after a loss: the offset is reversed (Fig. 3(d))
-        self.feature: np.ndarray | None = None
+        self.feature: tuple[float, float] | None = None
         self.tip = 0.0  # lowest hand row in the window (a fingertip for a finger window)
 
     def place(self, center: Sequence[float]) -> None:
         """Move the window centre to ``center``."""
-        self.center = np.array(center, dtype=float)
-        cx, cy = self.center.tolist()  # plain floats: the window arithmetic is scalar
+        self.center = cx, cy = float(center[0]), float(center[1])
         self.window.move_to(cx, cy, self.size[0], self.size[1], self.image_size)
 
     def step(self, image: np.ndarray) -> bool:
@@ -78,17 +82,18 @@ class _Tracker:
         # (this runs for four windows every frame).
         m = cv2.moments(mask, True)
         n = int(m["m00"])
+        ox, oy = self.offset
         if n < MIN_PIXELS:
             self.feature = None
-            self.offset, self.sign = -self.offset, -self.sign  # Fig. 3(d): local recovery
-            self.place(self.center + self.offset)
+            self.offset, self.sign = (-ox, -oy), -self.sign  # Fig. 3(d): local recovery
+            self.place((self.center[0] - ox, self.center[1] - oy))
             return False
         cx, cy = m["m10"] / n, m["m01"] / n
-        self.feature = np.array([w.x0 + cx, w.y0 + cy])
+        self.feature = fx, fy = (w.x0 + cx, w.y0 + cy)
         per_row = cv2.reduce(mask, 1, cv2.REDUCE_SUM, dtype=cv2.CV_32S)  # 255 per pixel
         rows = np.flatnonzero(per_row >= 2 * 255)  # a lone noisy pixel is no fingertip
         self.tip = w.y0 + float(rows[-1] if len(rows) else cy)
-        self.place(self.feature + self.offset)
+        self.place((fx + ox, fy + oy))
         return True
 
 
@@ -128,11 +133,11 @@ class HandTracker(VFD):
             self.palm[v].place(self.cameras[v].project(p)[0])
         side = self.cameras["side"]
         s = side.mm_to_px(p)
-        c = self.palm["side"].center
+        cx, cy = self.palm["side"].center
         for sign, f in zip((-1, 1), self.fingers, strict=True):
-            f.place(c + np.array([sign * 30.0 * s, 25.0 * s]))
-            f.offset = np.zeros(2)
-        self.holder.place(c + np.array([0.0, 25.0 * s]))
+            f.place((cx + sign * 30.0 * s, cy + 25.0 * s))
+            f.offset = (0.0, 0.0)
+        self.holder.place((cx + 0.0, cy + 25.0 * s))
         self._samples.clear()
         self.tracking = True
         self.lost_frames = 0
@@ -160,23 +165,26 @@ class HandTracker(VFD):
         if not self.tracking:
             return
         side_img = frame.side
-        before = self.palm["side"].center.copy()
+        bx, by = self.palm["side"].center
         ok_top = self.palm["top"].step(frame.top)
         ok_side = self.palm["side"].step(side_img)
-        moved = self.palm["side"].center - before
+        mx, my = self.palm["side"].center
+        mx, my = mx - bx, my - by
         for f in (*self.fingers, self.holder):  # the palm is their moving reference point
-            f.place(f.center + moved)
+            f.place((f.center[0] + mx, f.center[1] + my))
         if not (ok_top and ok_side):
             self.lost_frames += 1
             if self.lost_frames > 3:
                 self.tracking = False  # ENV-node: the hand has disappeared
             return
         self.lost_frames = 0
-        palm3d = self.triangulate(self.palm["top"].feature, self.palm["side"].feature)
-        s = self.cameras["side"].mm_to_px(palm3d)
+        side_cam = self.cameras["side"]
+        palm3d = self.triangulate(self.palm["top"].feature, self.palm["side"].feature).tolist()
+        s = side_cam.mm_to_px(palm3d)
         pf = self.palm["side"].feature
         for side, f in zip((-1, 1), self.fingers, strict=True):
-            f.offset = f.sign * _FINGER_OFFSET[side]
+            ox, oy = _FINGER_OFFSET[side]
+            f.offset = (f.sign * ox, f.sign * oy)
             if f.step(side_img):
                 f.sign = 1.0
             else:
@@ -193,7 +201,7 @@ class HandTracker(VFD):
         if tips:
             uv = (self.holder.center[0], tip_v)
             front = palm3d[1] - FINGER_FRONT_MM
-            z = self.cameras["side"].point_on_plane(uv, 1, front)[2] + HOLDER_ABOVE_TIPS_MM
+            z = side_cam.plane_point(uv, 1, front)[2] + HOLDER_ABOVE_TIPS_MM
         elif self._target is not None:
             z = float(self._target[2])
         else:
@@ -201,14 +209,13 @@ class HandTracker(VFD):
         x = palm3d[0]
         if len(good) == 2:  # the grip centre is midway between the fingers: x from the side
             mid = (good[0].feature[0] + good[1].feature[0]) / 2.0
-            x = self.cameras["side"].point_on_plane((mid, tip_v), 1,
-                                                    palm3d[1] - FINGER_FRONT_MM)[0]
+            x = side_cam.plane_point((mid, tip_v), 1, palm3d[1] - FINGER_FRONT_MM)[0]
         hx = np.array([x, palm3d[1], z])
         self._target = hx
         self._samples.append((frame.t, hx))
         self._found = True
 
-    def _reacquire(self, f: _Tracker, side: int, pf: np.ndarray, s: float,
+    def _reacquire(self, f: _Tracker, side: int, pf: tuple[float, float], s: float,
                    image: np.ndarray) -> None:
         """A lost finger looks once along its side below the palm, in a strip as wide as
         its reach (the window is stretched for one read), then returns to its size."""
@@ -224,42 +231,43 @@ class HandTracker(VFD):
             return
         cols = slice(max(0, int(c[0]) - 4), int(c[0]) + 5)
         rows = np.nonzero(mask[:, cols].sum(axis=1) >= 2)[0]
-        f.feature = np.array([w.x0 + c[0], w.y0 + c[1]])
+        f.feature = (w.x0 + c[0], w.y0 + c[1])
         f.tip = w.y0 + float(rows.max() if len(rows) else c[1])
         f.sign = 1.0
         f.place(f.feature)
 
-    def _constrain(self, pf: np.ndarray, s: float) -> None:
+    def _constrain(self, pf: tuple[float, float], s: float) -> None:
         """Finger reach and gap, holder midway, palm above and near the holder."""
         lo, hi = FINGER_REACH_MM[0] * s, FINGER_REACH_MM[1] * s
         pts = []
         for sign, f in zip((-1, 1), self.fingers, strict=True):
             p = f.feature if f.feature is not None else f.center
-            d = p - pf
-            n = np.linalg.norm(d)
+            dx, dy = p[0] - pf[0], p[1] - pf[1]
+            n = math.sqrt(dx * dx + dy * dy)
             if n < 1e-6:
-                d, n = np.array([sign, 1.0]), np.sqrt(2.0)
-            p = pf + d / n * np.clip(n, lo, hi)
-            if sign * (p[0] - pf[0]) < 0:  # a finger never crosses to the other side
-                p[0] = pf[0]
-            pts.append(p)
+                dx, dy, n = float(sign), 1.0, math.sqrt(2.0)
+            k = min(max(n, lo), hi)
+            px, py = pf[0] + dx / n * k, pf[1] + dy / n * k
+            if sign * (px - pf[0]) < 0:  # a finger never crosses to the other side
+                px = pf[0]
+            pts.append([px, py])
         gap = FINGER_GAP_MM * s
         if pts[1][0] - pts[0][0] < gap:
             mid = (pts[0][0] + pts[1][0]) / 2.0
             pts[0][0], pts[1][0] = mid - gap / 2.0, mid + gap / 2.0
-        for side, f, p in zip((-1, 1), self.fingers, pts, strict=True):
-            if f.feature is not None:
-                f.place(f.center + (p - f.feature))  # the window follows its constrained point
-                f.feature = p
+        for side, f, (px, py) in zip((-1, 1), self.fingers, pts, strict=True):
+            if f.feature is not None:  # the window follows its constrained point
+                f.place((f.center[0] + (px - f.feature[0]), f.center[1] + (py - f.feature[1])))
+                f.feature = (px, py)
             if side * (f.center[0] - pf[0]) < 1.0:  # a window never crosses under the palm
                 f.place((pf[0] + side * 1.0, f.center[1]))
-        holder = (pts[0] + pts[1]) / 2.0
+        hx, hy = (pts[0][0] + pts[1][0]) / 2.0, (pts[0][1] + pts[1][1]) / 2.0
         palm = self.palm["side"]
-        c = palm.center.copy()
-        c[1] = min(c[1], holder[1] - PALM_ABOVE_MM * s)
-        c[0] = np.clip(c[0], holder[0] - PALM_SIDEWAYS_MM * s, holder[0] + PALM_SIDEWAYS_MM * s)
-        palm.place(c)
-        self.holder.place(holder)
+        cx, cy = palm.center
+        cy = min(cy, hy - PALM_ABOVE_MM * s)
+        cx = min(max(cx, hx - PALM_SIDEWAYS_MM * s), hx + PALM_SIDEWAYS_MM * s)
+        palm.place((cx, cy))
+        self.holder.place((hx, hy))
 
     def _measure_holder(self, side_img: np.ndarray) -> None:
         """Fraction of block-white pixels between the fingers (a held object, Sec. III-C3)."""
