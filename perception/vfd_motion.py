@@ -24,6 +24,19 @@ from .vfd_resources import VisionResources
 INTERVAL = 0.0835  # s, footnote 4
 
 
+def _median(a: np.ndarray) -> np.floating:
+    """``np.median`` of all elements (same value and dtype), by one partial sort.
+
+    np.median's generic machinery costs ~20 us on the 256 cells; this ~4 us.
+    """
+    flat = a.ravel()
+    k = flat.size // 2
+    if flat.size % 2:
+        return np.partition(flat, k)[k]
+    part = np.partition(flat, (k - 1, k))
+    return (part[k - 1] + part[k]) / 2
+
+
 class MotionDetector(VFD):
     """Finds moving things (the hand) anywhere in the workspace."""
 
@@ -73,16 +86,17 @@ class MotionDetector(VFD):
             diff = np.abs(signed)
             # Most cells see only sensor noise: their robust spread sets the floor, so a
             # noisier camera does not report motion everywhere.
-            sigma = 1.4826 * float(np.median(np.abs(signed - np.median(signed))))
+            sigma = 1.4826 * float(_median(np.abs(signed - _median(signed))))
             diff[diff <= max(self.threshold, 5.0 * sigma)] = 0
             ys, xs = np.nonzero(diff)
             if len(xs) == 0:
                 return
             cells += len(xs)
             wts = diff[ys, xs]
+            total = wts.sum()
             scale = self.step * self.cell  # one coarse cell in input pixels
-            points[view] = (float((xs + 0.5) @ wts / wts.sum() * scale),
-                            float((ys + 0.5) @ wts / wts.sum() * scale))
+            points[view] = (float((xs + 0.5) @ wts / total * scale),
+                            float((ys + 0.5) @ wts / total * scale))
         self.image_points = points
         self.changed_cells = cells
         self._target = self.triangulate(points["top"], points["side"])
