@@ -90,9 +90,11 @@ class _Tracker:
             return False
         cx, cy = m["m10"] / n, m["m01"] / n
         self.feature = fx, fy = (w.x0 + cx, w.y0 + cy)
-        per_row = cv2.reduce(mask, 1, cv2.REDUCE_SUM, dtype=cv2.CV_32S)  # 255 per pixel
-        rows = np.flatnonzero(per_row >= 2 * 255)  # a lone noisy pixel is no fingertip
-        self.tip = w.y0 + float(rows[-1] if len(rows) else cy)
+        per_row = np.add.reduce(mask, axis=1, dtype=np.int32).tolist()  # 255 per pixel
+        last = len(per_row) - 1
+        while last >= 0 and per_row[last] < 2 * 255:  # a lone noisy pixel is no fingertip
+            last -= 1
+        self.tip = w.y0 + float(last if last >= 0 else cy)
         self.place((fx + ox, fy + oy))
         return True
 

@@ -34,11 +34,20 @@ class Window:
 
     def move_to(self, cx: float, cy: float, w: int, h: int, size: tuple[int, int]) -> None:
         """Centre the window at (cx, cy) with size w x h, clipped to an image of ``size``."""
+        # Conditional expressions instead of min/max calls: trackers move windows ~10
+        # times a frame.
         x0 = int(round(cx - w / 2.0))
         y0 = int(round(cy - h / 2.0))
-        self.x0, self.y0 = max(0, min(size[0] - 1, x0)), max(0, min(size[1] - 1, y0))
-        self.x1 = max(self.x0 + 1, min(size[0], x0 + w))
-        self.y1 = max(self.y0 + 1, min(size[1], y0 + h))
+        sw, sh = size
+        a = x0 if x0 < sw - 1 else sw - 1
+        b = y0 if y0 < sh - 1 else sh - 1
+        self.x0 = a = a if a > 0 else 0
+        self.y0 = b = b if b > 0 else 0
+        e, f = x0 + w, y0 + h
+        e = e if e < sw else sw
+        f = f if f < sh else sh
+        self.x1 = e if e > a + 1 else a + 1
+        self.y1 = f if f > b + 1 else b + 1
 
     def set_rect(self, rect: tuple[int, int, int, int]) -> None:
         """Set the window to the pixel rectangle (x0, y0, x1, y1)."""
