@@ -38,6 +38,9 @@ class Recognizer:
         self.finished = False
         self.initial_objects: dict[str, dict[str, Any]] = {}
         self.log: list[tuple[float, str, str, Any]] = []  # (t, motion, event, value)
+        # Ended motions whose end state a snapshot detector cannot judge yet (the hand
+        # hides it): classified on a later frame, at the latest when their parent ends.
+        self.deferred: list[ActNode] = []
         start = rules.start_motion()
         self._create(start.name, None, start.level, {"base": (WORLD,)}, None)
 
@@ -55,6 +58,8 @@ class Recognizer:
         """One frame: detect passes alternating with analyze steps (Sec. V-A)."""
         self.t = self.t_seg = t
         self.registry.begin_frame(t, frame)
+        if self.deferred:
+            self._settle_deferred(None)
         for node in self.stack.scan():
             node.asked = False
         for _ in range(int(self.rules.constants["detect-passes-per-frame"])):
@@ -208,24 +213,59 @@ class Recognizer:
         return node
 
     def _terminate(self, node: ActNode, event: str | None) -> None:
-        """End a motion: close its subnode, classify it, update the env, store it."""
+        """End a motion: close its subnode, classify it, update the env, store it.
+
+        If a snapshot detector cannot judge the motion's end state yet, the motion
+        still ends now (segmentation) but its classification waits for a later frame
+        (frames stay in order: it uses no frame after the one it is decided on).
+        """
         if node.subnode is not None:
             self._terminate(node.subnode, event)
             node.subnode = None
+        self._settle_deferred(node)
+        lasts = self._last_snapshots(node)
+        node.final_event, node.t_end = event, self.t_seg
+        if node.parent is not None:
+            node.parent.history.append(node)
+            if self._pending(lasts):
+                self.deferred.append(node)
+                return
+        self._classify(node, lasts)
+
+    def _last_snapshots(self, node: ActNode) -> dict[str, Any]:
+        """Each snapshot detector's snapshot of the current frame for ``node``."""
+        view = node.view(self.t)
+        return {name: self.registry[name].snapshot(view, self.env) for name in node.snapshots}
+
+    def _pending(self, lasts: dict[str, Any]) -> bool:
+        """Whether some detector says its snapshot cannot be judged yet (optional ``pending``)."""
+        for name, last in lasts.items():
+            pending = getattr(self.registry[name], "pending", None)
+            if pending is not None and pending(last):
+                return True
+        return False
+
+    def _settle_deferred(self, parent: ActNode | None) -> None:
+        """Classify deferred motions that can be judged now; those of ``parent`` in any case."""
+        for node in list(self.deferred):
+            forced = parent is not None and node.parent is parent
+            lasts = self._last_snapshots(node)
+            if forced or not self._pending(lasts):
+                self.deferred.remove(node)
+                self._classify(node, lasts)
+
+    def _classify(self, node: ActNode, lasts: dict[str, Any]) -> None:
+        """Features (Table V) from the snapshot comparisons, the operation, its effect, FS."""
         compared = {}
+        view = node.view(self.t)
         for name, first in node.snapshots.items():
-            detector = self.registry[name]
-            view = node.view(self.t)
-            last = detector.snapshot(view, self.env)
-            compared[name] = detector.compare(first, last, view, self.env)
-        node.features = actmodel.compute_features(self.rules, node, event, self.env, compared)
+            compared[name] = self.registry[name].compare(first, lasts[name], view, self.env)
+        node.features = actmodel.compute_features(self.rules, node, node.final_event, self.env,
+                                                  compared)
         node.operation = actmodel.classify(self.rules, node.motion, node.features)
         if node.operation in self.rules.effects:
             binds = actmodel.effect_bindings(self.rules, node, self.env)
             self.env.apply_effect(self.rules.effects[node.operation], binds, node.measured)
-        node.final_event, node.t_end = event, self.t_seg
         node.final_state = self.env.snapshot(node.nodes())
         if node.initial_state is not None:
             node.initial_state = node.initial_state.restricted(node.nodes())
-        if node.parent is not None:
-            node.parent.history.append(node)

@@ -32,6 +32,7 @@ PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, a
 PICK_MARGIN_MM = 8.0
 HOLDING, EMPTY = 0.3, 0.1  # block fraction of the holder window: an object held / none
 CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for CoplDet)
+MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
 
 # The change-detector's results, named as the rules' SilDiff values (rules/analysis.yaml).
 SIL_DIFF = {DISAPPEARED: "decreased", APPEARED: "increased", NO_CHANGE: "no-change"}
@@ -243,13 +244,16 @@ class CoplanarNode:
         self.eyes = eyes
         self.detector = CoplanarDetector(eyes.cameras, eyes.resources)
 
-    def status(self, act: ActView, env: EnvModel) -> set[tuple[str, str]]:
-        """(neighbour, face) pairs whose face is coplanar with the held block's."""
+    def status(self, act: ActView, env: EnvModel) -> dict[str, Any]:
+        """(neighbour, face) pairs whose face is coplanar with the moved block's, and whether
+        some face was hidden (then judged from the measured boxes instead of the image)."""
         held = held_box(self.eyes, env)
         if held is None or self.eyes.frame is None:
-            return set()
+            return {"pairs": set(), "hidden": False}
         node, a = held
-        out = set()
+        if self.eyes.released is not None:
+            a = self.eyes.released  # let go: it stays where the hand left it (Sec. V-B5)
+        out, hidden = set(), False
         for other in env.objects():
             if other.name == node.name or other.position is None or other.size is None:
                 continue
@@ -259,22 +263,39 @@ class CoplanarNode:
                 gap = abs(a.center[axis] - b.center[axis]) - (a.size[axis] + b.size[axis]) / 2
                 overlap = (a.size[across] + b.size[across]) / 2 - abs(a.center[across]
                                                                       - b.center[across])
-                if gap > CONTACT_MM or overlap <= 0 or abs(a.lo[2] - b.lo[2]) > 10.0:
+                # side by side along this axis (not overlapping along it), faces across it
+                if abs(gap) > CONTACT_MM or overlap <= 0 or abs(a.lo[2] - b.lo[2]) > 10.0:
                     continue
                 for face in faces:
-                    if self.detector.check(self.eyes.frame, a, b, face):
+                    seen = self.detector.check(self.eyes.frame, a, b, face)
+                    if self.detector.step_mm is None:  # the palm or a finger hides an edge
+                        hidden = True
+                        seen = abs(_face(a, face) - _face(b, face)) <= MODEL_TOLERANCE_MM
+                    if seen:
                         out.add((other.name, face))
         self.detector.free()
-        return out
+        return {"pairs": out, "hidden": hidden}
 
     def snapshot(self, act: ActView, env: EnvModel) -> Any:
         """Coplanar face pairs now."""
         return self.status(act, env)
 
+    def pending(self, last: Any) -> bool:
+        """The end state cannot be judged yet: the hand still hides a face's edge (the engine
+        then asks again on later frames, until the hand has cleared it or the parent ends)."""
+        return bool(last and last["hidden"])
+
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
         """positive: a coplanar pair appeared; negative: one was lost; else unchanged."""
-        first, last = first or set(), last or set()
+        first = first["pairs"] if first else set()
+        last = last["pairs"] if last else set()
         sign = 1 if last - first else -1 if first - last else 0
         # the neighbours whose faces became coplanar with the moved block's (ALIGN's `found`)
         found = tuple(sorted({name for name, _ in last - first}))
         return Detection(value=COPL_DET[sign], found=found)
+
+
+def _face(region: Region3D, face: str) -> float:
+    """World coordinate of a box's named vertical face (north/south: y, east/west: x)."""
+    axis = 1 if face in ("north", "south") else 0
+    return float(region.hi[axis] if face in ("north", "east") else region.lo[axis])

@@ -102,6 +102,7 @@ class Eyes:
         self.joined_at: float | None = None  # hand height at the last :Join
         self.release: np.ndarray | None = None  # hand position at the last :Split
         self.t_far = -np.inf  # when :Far last fired (a Transfer began)
+        self.released: Region3D | None = None  # box of the block let go at the last :Split
         self.grip = np.zeros(3)  # held block centre minus hand, measured at the grasp
         self.pixels: list[int] = []  # pixels read per frame (benchmark)
         self.search = SearchNode(self)
@@ -259,9 +260,11 @@ class Eyes:
         if self.hand is None or self.joined_at is None:
             return None
         if self.hand[2] - self.joined_at > SPLIT_MM:
-            self.joined_at = None
+            joined, self.joined_at = self.joined_at, None
             self.release = self.hand.copy()
             held = held_box(self, env)
+            if held is not None:  # the block stays where it was let go, the hand's rise below
+                self.released = held[1].shifted(dz=-(float(self.hand[2]) - joined))
             if held is not None and self.work is not None:  # the spot where it was let go
                 self.work.extend(held[1].lo, held[1].hi)
             return self.hand_detection()
@@ -274,7 +277,7 @@ class Eyes:
         blocks' boxes as they are now (a pick: where the target was before it moved).
         """
         self.low = float(self.hand[2]) if self.hand is not None else None
-        self.high, self.release = self.low, None
+        self.high, self.release, self.released = self.low, None, None
         held = held_box(self, env)
         boxes = [held[1]] if held is not None else [
             box(n) for n in env.get(tuple(found)) if n.kind == "Loc" and n.size is not None]
@@ -407,6 +410,11 @@ class _Snapshots(_Node):
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
         """The VFD's qualitative change between the two snapshots."""
         return self.node.compare(first, last, act, env)
+
+    def pending(self, last: Any) -> bool:
+        """Whether the VFD cannot judge this end snapshot yet (the engine asks again later)."""
+        pending = getattr(self.node, "pending", None)
+        return bool(pending is not None and pending(last))
 
 
 def perception_detectors(eyes: Eyes) -> dict[str, Any]:

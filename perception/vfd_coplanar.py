@@ -15,11 +15,12 @@ from __future__ import annotations
 import numpy as np
 
 from .frames import Frame
-from .vfd import DARK_MAX, VFD, Region3D
+from .vfd import DARK_MAX, HAND_BAND, VFD, Region3D
 
 FACES = {"north": (1, +1), "south": (1, -1), "east": (0, +1), "west": (0, -1)}
 TOLERANCE_MM = 5.0  # about 1.5 top-view pixels: edges are quantized to whole pixels
 MARGIN_MM = 25.0  # how far beyond the faces the local window reaches
+HAND_PIXELS = 2  # this many hand-band pixels on a face's scan lines: the hand is over it
 REACH_MM = 15.0  # a free face's outline must end within this distance past the model face
 
 
@@ -41,8 +42,12 @@ class CoplanarDetector(VFD):
         lo[2], hi[2] = 0.0, max(a.hi[2], b.hi[2])
         self.attention(Region3D(tuple(lo), tuple(hi)))
         (w,) = self.windows["top"]
-        sub = w.read(frame.top) > DARK_MAX
-        edges = [self._edge(sub, w, box, axis, sign) for box in (a, b)]
+        raw = w.read(frame.top)
+        sub = raw > DARK_MAX
+        # The hand (palm and fingers are in the hand band) on a scan line makes the outline
+        # its own there: that face is not measurable while the hand is over it.
+        hand = (raw >= HAND_BAND[0]) & (raw < HAND_BAND[1])
+        edges = [self._edge(sub, w, box, axis, sign, hand) for box in (a, b)]
         if None in edges:
             self.step_mm = None
             return False
@@ -56,7 +61,8 @@ class CoplanarDetector(VFD):
         """The faces (of north/south/east/west) that ``a`` and ``b`` have coplanar."""
         return [face for face in FACES if self.check(frame, a, b, face)]
 
-    def _edge(self, mask: np.ndarray, w, box: Region3D, axis: int, sign: int) -> float | None:
+    def _edge(self, mask: np.ndarray, w, box: Region3D, axis: int, sign: int,
+              hand: np.ndarray | None = None) -> float | None:
         """World coordinate (along ``axis``) of the box's free outer edge on the ``sign`` side.
 
         Each scan line runs from the box centre outwards; the edge is where the
@@ -85,6 +91,11 @@ class CoplanarDetector(VFD):
         lo_line = int(round(across[0])) - (w.y0 if k == 0 else w.x0)
         hi_line = int(round(across[1])) - (w.y0 if k == 0 else w.x0)
         lines = mask[lo_line:hi_line + 1, :] if k == 0 else mask[:, lo_line:hi_line + 1].T
+        if hand is not None:
+            near = hand[lo_line:hi_line + 1, :] if k == 0 else hand[:, lo_line:hi_line + 1].T
+            a, b = sorted((start, stop))
+            if np.count_nonzero(near[:, max(0, a):b + 1]) >= HAND_PIXELS:
+                return None
         hits = []
         for line in lines:
             run = line[start:stop + step:step] if stop + step >= 0 else line[start::step]
