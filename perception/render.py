@@ -183,12 +183,12 @@ class _Layer:
     def __init__(self, keys: tuple, items: list[_Drawn], renderer: Renderer) -> None:
         """Draw ``items`` in painter's order for every camera of ``renderer``."""
         self.keys, self.items = keys, items
-        self.members = {id(d) for d in items}
-        self.images: dict[str, np.ndarray] = {}
+        self.sheet = renderer._blank.copy()  # every camera's image, stacked (see Renderer)
+        self.images = renderer._views(self.sheet)
         self.order: dict[str, list[int]] = {}
         self.hiders: dict[str, list[set[int]]] = {}  # statics drawn over static i (closure)
         for name, cam in renderer.cameras.items():
-            img = renderer._blank[name].copy()
+            img = self.images[name]
             order = paint_order(items, name, cam.center)
             for i in order:
                 items[i].draw(img, name)
@@ -198,7 +198,7 @@ class _Layer:
                 for j in order[pos + 1:]:
                     if occludes(items[j], items[i], name, cam.center) > 0:
                         hiders[i] |= {j} | hiders[j]
-            self.images[name], self.order[name], self.hiders[name] = img, order, hiders
+            self.order[name], self.hiders[name] = order, hiders
 
 
 class Renderer:
@@ -210,8 +210,18 @@ class Renderer:
         self.cameras = dict(cameras)
         self.pixel_noise = float(pixel_noise)
         rng = np.random.default_rng(seed)
-        self._noise: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}
+        # All cameras' images live stacked in one "sheet" (rows of camera k below those of
+        # camera k-1), so copying the static layer and adding noise are one cv2 call each
+        # per frame, not one per camera; render() hands out views of the sheet.
+        self._rows: dict[str, tuple[int, int, int]] = {}  # name -> (first row, h, w)
+        top = 0
+        for name, cam in self.cameras.items():
+            self._rows[name] = (top, cam.size[1], cam.size[0])
+            top += cam.size[1]
+        self._blank = np.zeros((top, max(c.size[0] for c in self.cameras.values())), np.uint8)
+        self._noise: list[tuple[np.ndarray, np.ndarray]] = []  # (plus, minus) sheets
         if self.pixel_noise > 0:
+            pools = {}
             for name, cam in self.cameras.items():
                 w, h = cam.size
                 pool = []
@@ -219,25 +229,29 @@ class Renderer:
                     g = np.rint(rng.normal(0.0, self.pixel_noise, (h, w)))
                     pool.append((np.clip(g, 0, 255).astype(np.uint8),
                                  np.clip(-g, 0, 255).astype(np.uint8)))
-                self._noise[name] = pool
+                pools[name] = pool
+            for p in range(_POOL):  # camera k takes pool image (pick + 7 k) of its own pool
+                plus, minus = self._blank.copy(), self._blank.copy()
+                for k, name in enumerate(self.cameras):
+                    a, b = pools[name][(p + 7 * k) % _POOL]
+                    self._views(plus)[name][...] = a
+                    self._views(minus)[name][...] = b
+                self._noise.append((plus, minus))
         self._picks = rng.integers(0, _POOL, size=4096).tolist()
         self._frame = 0
-        self._blank = {name: np.zeros((c.size[1], c.size[0]), np.uint8)
-                       for name, c in self.cameras.items()}
         self._cache: dict[tuple, _Drawn] = {}  # projections of boxes seen recently
         self._step = 0  # frames composed (for "unchanged since the previous frame")
         self._last_keys: list[tuple] = []
-        self._last_clean: dict[str, np.ndarray] = {}
+        self._last_clean: np.ndarray | None = None  # the last composed sheet
         # Both projection matrices stacked, so a batch of corners is projected in one product.
         self._names = list(self.cameras)
         self._MT = np.ascontiguousarray(np.vstack([c.P[:, :3] for c in self.cameras.values()]).T)
         self._p4 = np.concatenate([c.P[:, 3] for c in self.cameras.values()])
         # Axis-aligned corner k of camera c is M_c (centre + _UNIT[k] * size) + p4_c: linear in
-        # (centre, size), so rows (cx, cy, cz, sx, sy, sz) @ _W + _w0 gives h[C, 8, 3] at once.
-        Ms = [c.P[:, :3] for c in self.cameras.values()]
-        self._W = np.concatenate([np.vstack([M.T, _UNIT[k][:, None] * M.T])
-                                  for M in Ms for k in range(8)], axis=1)
-        self._w0 = np.concatenate([c.P[:, 3] for c in self.cameras.values() for _ in range(8)])
+        # (centre, size), so rows (cx, cy, cz, sx, sy, sz, 1) @ _W give h[C, 8, 3] at once.
+        self._W = np.concatenate([np.vstack([c.P[:, :3].T, _UNIT[k][:, None] * c.P[:, :3].T,
+                                             c.P[:, 3]])
+                                  for c in self.cameras.values() for k in range(8)], axis=1)
         self._eyes = np.array([c.center for c in self.cameras.values()])
         self._eyes_l = self._eyes.tolist()
         self._layer = _Layer((), [], self)
@@ -247,24 +261,26 @@ class Renderer:
         # Plain tuples of the fields: hashed and compared in C (a frozen dataclass hashes
         # and compares through Python code, and every frame's boxes are new objects).
         keys = [(b.kind, b.center, b.size, b.angle, b.name) for b in scene]
-        if keys != self._last_keys or not self._last_clean:
+        if keys != self._last_keys or self._last_clean is None:
             self._last_clean = self._compose(scene, keys)
             self._last_keys = keys
         if not self._noise:
-            return {name: img.copy() for name, img in self._last_clean.items()}
-        pick = self._picks[self._frame % len(self._picks)]
+            return self._views(self._last_clean.copy())
+        plus, minus = self._noise[self._picks[self._frame % len(self._picks)]]
         self._frame += 1
-        out = {}
-        for k, (name, clean) in enumerate(self._last_clean.items()):
-            plus, minus = self._noise[name][(pick + 7 * k) % _POOL]
-            out[name] = cv2.subtract(cv2.add(clean, plus), minus)
-        return out
+        out = cv2.add(self._last_clean, plus)
+        cv2.subtract(out, minus, dst=out)
+        return self._views(out)
+
+    def _views(self, sheet: np.ndarray) -> dict[str, np.ndarray]:
+        """Each camera's image inside a stacked ``sheet``."""
+        return {name: sheet[r:r + h, :w] for name, (r, h, w) in self._rows.items()}
 
     def render_clean(self, scene: Sequence[Box]) -> dict[str, np.ndarray]:
         """Noise-free images of ``scene`` for every camera (no layer caching)."""
         keys = [(b.kind, b.center, b.size, b.angle, b.name) for b in scene]
         layer = _Layer((), self._lookup(scene, keys), self)
-        return {name: img.copy() for name, img in layer.images.items()}
+        return self._views(layer.sheet)
 
     def _lookup(self, scene: Sequence[Box], keys: list[tuple]) -> list[_Drawn]:
         """The prepared drawing of every box; new ones are projected in one batch."""
@@ -279,27 +295,30 @@ class Renderer:
                 cache[keys[i]] = drawn[i] = d
         return drawn
 
-    def _compose(self, scene: Sequence[Box], keys: list[tuple]) -> dict[str, np.ndarray]:
+    def _compose(self, scene: Sequence[Box], keys: list[tuple]) -> np.ndarray:
         """Static blocks come from a cached layer; moving boxes are drawn over it."""
         drawn = self._lookup(scene, keys)
         self._step += 1
         step = self._step
         # A block is static when the previous frame had it exactly where it is now.
-        static = [d for d in drawn if d.kind == "block" and d.seen == step - 1]
+        static, others = [], []
         for d in drawn:
+            if d.kind == "block" and d.seen == step - 1:
+                static.append(d)
+            else:
+                others.append(d)
             d.seen = step
-        key = tuple(id(d) for d in static)
+        key = tuple(map(id, static))
         if key != self._layer.keys:
             self._layer = _Layer(key, static, self)
         layer = self._layer
-        moving = [d for d in drawn if not (d.kind == "block" and id(d) in layer.members)]
-        images = {}
-        for name, cam in self.cameras.items():
-            img = layer.images[name].copy()
-            if moving:
-                self._draw_moving(img, name, cam.center, layer, moving)
-            images[name] = img
-        return images
+        moving = others  # the layer now holds exactly the static blocks
+        sheet = layer.sheet.copy()
+        if moving:
+            images = self._views(sheet)
+            for name, cam in self.cameras.items():
+                self._draw_moving(images[name], name, cam.center, layer, moving)
+        return sheet
 
     @staticmethod
     def _draw_moving(img: np.ndarray, name: str, eye: np.ndarray, layer: _Layer,
@@ -309,9 +328,11 @@ class Renderer:
         for i in order:
             moving[i].draw(img, name)
         # Only static boxes whose image meets the moving boxes' joint image can hide them.
-        boxes = [m.bbox[name] for m in moving]
-        u0, v0 = min(b[0] for b in boxes), min(b[1] for b in boxes)
-        u1, v1 = max(b[2] for b in boxes), max(b[3] for b in boxes)
+        u0, v0, u1, v1 = moving[0].bbox[name]
+        for m in moving[1:]:
+            a, b, c, d = m.bbox[name]
+            u0, v0 = (a if a < u0 else u0), (b if b < v0 else v0)
+            u1, v1 = (c if c > u1 else u1), (d if d > v1 else v1)
         hiders: set[int] = set()
         for j, s in enumerate(layer.items):
             p = s.bbox[name]
@@ -351,7 +372,7 @@ class Renderer:
         nc = len(names)
         # Axis-aligned: the corners are linear in (centre, size), so corners and projection
         # fold into one product with a precomputed matrix: h[N, C, 8, 3].
-        h = (np.array(rows, float)[:, :6] @ self._W + self._w0).reshape(n, nc, 8, 3)
+        h = (np.array([r[:6] + (1.0,) for r in rows]) @ self._W).reshape(n, nc, 8, 3)
         uv = h[..., :2] / h[..., 2:3]  # [N,C,8,2]
         corners = np.rint(uv * _ONE).astype(np.int32)  # fixed point, _SHIFT fraction bits
         bounds = np.concatenate((uv.min(axis=2), uv.max(axis=2)), axis=2).tolist()  # [N,C,4]
@@ -382,7 +403,7 @@ class Renderer:
             seen.append((lo, hi, per_cam))
         # A flat-gray box is one convex polygon, its outline: the same pixels as its faces
         # one by one (checked on 8000 random boxes), in one fill instead of two or three.
-        polys = list(corners.reshape(-1, 2)[outlines]) if outlines else []
+        polys = list(corners.reshape(-1, 2)[np.array(outlines, np.intp)]) if outlines else []
         out, p = [], 0
         for i, b in enumerate(boxes):
             lo, hi, per_cam = seen[i]
