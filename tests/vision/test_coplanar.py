@@ -2,6 +2,7 @@
 
 import pytest
 
+from perception.scene import Box
 from perception.vfd import Region3D
 from perception.vfd_coplanar import CoplanarDetector
 from perception.vfd_resources import VisionResources
@@ -58,3 +59,16 @@ def test_coplanar_faces_lists_the_aligned_sides():
     assert det.coplanar_faces(Film().shoot([a, b]), _region(a), _region(b)) == ["north", "south"]
     a, b = _pair(-100, 250, 10)
     assert det.coplanar_faces(Film().shoot([a, b]), _region(a), _region(b)) == []
+
+
+def test_a_palm_over_the_faces_makes_them_unmeasurable():
+    """The hand above two aligned blocks gives its own outline: not a coplanarity (ALIGN waits)."""
+    a = block(0, 150, BRICK)
+    b = block(0, 180, BRICK)
+    palm = Box("hand", (5.0, 165.0, 150.0), (50.0, 50.0, 30.0))
+    det = CoplanarDetector(CAMS, VisionResources())
+    assert det.check(Film().shoot([a, b]), _region(a), _region(b), "east")
+    assert not det.check(Film().shoot([a, b, palm]), _region(a), _region(b), "east")
+    assert det.step_mm is None
+    far = Box("hand", (150.0, 300.0, 150.0), (50.0, 50.0, 30.0))  # elsewhere: measurable
+    assert det.check(Film().shoot([a, b, far]), _region(a), _region(b), "east")
