@@ -21,6 +21,11 @@ import pymunk
 
 from .scene import Box
 
+# The velocity property's own setter: pymunk bodies route every attribute assignment
+# through a Python-level __setattr__ (a typing helper that only calls object's); the
+# gripper sets three velocities per physics substep.
+_set_velocity = pymunk.Body.velocity.fset
+
 Vec3 = tuple[float, float, float]
 
 TIP = 10.0  # mm the fingers reach below the grip centre
@@ -153,7 +158,7 @@ class Gripper:
         for side, body, _ in self.fingers:
             want = hx + vx * dt + side * (self.opening + self.geometry.finger[0]) / 2
             if dt > 0:
-                body.velocity = ((want - body.position[0]) / dt, vz)
+                _set_velocity(body, ((want - body.position[0]) / dt, vz))
             else:
                 body.position = (want, fz)
                 body.velocity = (0.0, 0.0)
@@ -168,7 +173,7 @@ class Gripper:
         speed = math.hypot(vx, vz)
         if speed > self.max_speed:
             vx, vz = vx * self.max_speed / speed, vz * self.max_speed / speed
-        self.body.velocity = (vx, vz)
+        _set_velocity(self.body, (vx, vz))
         if self.opening != self.target_opening:
             step = self.geometry.close_speed * dt
             d = self.target_opening - self.opening
