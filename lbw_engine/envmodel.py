@@ -17,6 +17,7 @@ from .detectors import Detection, Vec3
 from .rules import EffectRule, RuleSet, Template
 
 WORLD, HAND, TABLE = "world", "hand", "table"
+SUPPORT_OVERLAP_MM = 3.0  # a placed block rests on what is under it by more than this
 TABLE_SIZE: Vec3 = (600.0, 400.0, 0.0)  # design.md workspace; the top face is z = 0
 
 
@@ -223,7 +224,8 @@ class EnvModel:
             self._follow(binds[rule.move["follow"][1:]], binds[rule.move["object"][1:]])
         if "place" in rule.move:
             point = measured.get(rule.move["measured"])
-            self._place(binds[rule.move["place"][1:]], binds[rule.move["on"][1:]], point)
+            on = rule.move["on"][1:]
+            binds = {**binds, on: self._place(binds[rule.move["place"][1:]], binds[on], point)}
         for tpl in rule.add:
             if tpl.when is not None:
                 count = len(binds[tpl.when[1][1:]])
@@ -300,8 +302,13 @@ class EnvModel:
             pos[axis] += away * (pen[axis] + clearance)
         return (pos[0], pos[1], pos[2])
 
-    def _place(self, objects, supports, point: Vec3 | None) -> None:
-        """Put the object at the measured point, its height from the supports' tops."""
+    def _place(self, objects, supports, point: Vec3 | None) -> tuple[str, ...]:
+        """Put the object at the measured point, its height from the supports' tops.
+
+        Returns the supports it rests on there: the objects whose top face carries its
+        bottom face under its footprint where it was let go (Sec. V-B4). The ones found
+        on the way down (the hand still beside the spot) may be fewer or others.
+        """
         tops = [self.nodes[s].top() for s in supports if s in self.nodes]
         for name in objects:
             node = self.nodes[name]
@@ -319,3 +326,25 @@ class EnvModel:
                 p = self.nodes[rider].position
                 if p is not None:
                     self.nodes[rider].position = _add(p, delta)
+            if tops and all(self.nodes[s].kind == node.kind for s in supports if s in self.nodes):
+                below = self._carrying(node, set(riders))
+                if below:
+                    supports = tuple(below)
+        return tuple(supports)
+
+    def _carrying(self, node: EnvNode, riders: set[str]) -> list[str]:
+        """Objects whose top face is at ``node``'s bottom (within 10 mm, as for located
+        objects) and under its footprint by more than the support overlap."""
+        if node.position is None or node.size is None:
+            return []
+        bottom = node.position[2] - node.size[2] / 2.0
+        out = []
+        for other in self.objects():
+            if other is node or other.name in riders or other.position is None:
+                continue
+            if other.size is None or abs(other.top() - bottom) > 10.0:
+                continue
+            if all((node.size[i] + other.size[i]) / 2.0 - abs(node.position[i] - other.position[i])
+                   > SUPPORT_OVERLAP_MM for i in range(2)):
+                out.append(other.name)
+        return out

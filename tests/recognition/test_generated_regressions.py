@@ -21,6 +21,8 @@ from perception.stream import demonstration_frames, teach_names
 CASES = {
     # a cube put on two pyramid cubes was recorded on one: :Join at a hesitation mid-descent
     "seed1009-pyramid-two-supports": 1009,
+    # a cube on two cubes found over one at :Near (hand beside the spot): supports at the place
+    "seed1057-pyramid-supports-at-release": 1057,
     # the loaded plank's pick reached for a rider cube; the cube then recorded on the pillar
     "seed1024-plank-between-riders": 1024,
     # a touch right after a place read as PLACE-ON-BLOCK (holder window without a held block)
