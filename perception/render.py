@@ -54,6 +54,13 @@ def block_shade(normals: np.ndarray) -> np.ndarray:
     return np.clip(170.0 + 85.0 * up + 35.0 * side_x, 0, 255).astype(np.int32)
 
 
+def _shade(nx: float, ny: float, nz: float) -> int:
+    """``block_shade`` of one unit normal, in plain floats."""
+    up = min(max(nz, 0.0), 1.0)
+    side_x = abs(nx) * (1.0 - up)
+    return int(min(max(170.0 + 85.0 * up + 35.0 * side_x, 0.0), 255.0))
+
+
 def box_geometry(scene: Sequence[Box]) -> tuple[np.ndarray, np.ndarray]:
     """World corners [N,8,3] and face normals [N,6,3] of the scene's (tilted) boxes."""
     rows = np.array([(*b.center, *b.size, b.angle) for b in scene], float).reshape(-1, 7)
@@ -444,24 +451,27 @@ class Renderer:
         halfs = np.repeat(rows[:, 3:6] / 2.0, 2, axis=1)
         visible = (np.einsum("nfk,cnk->cnf", normals, self._eyes[:, None, :]
                              - rows[None, :, :3]) > halfs[None] + 1e-6).tolist()
-        shades = block_shade(normals).tolist()
         h = (corners.reshape(-1, 3) @ self._MT + self._p4).reshape(n, 8, len(names), 3)
         uv = h[..., :2] / h[..., 2:3]  # [N,8,C,2]
         quads = np.ascontiguousarray(
             np.rint(uv * _ONE).astype(np.int32).transpose(2, 0, 1, 3)[:, :, _FACES])
         uv_lo, uv_hi = uv.min(axis=1).tolist(), uv.max(axis=1).tolist()  # [N,C,2]
-        near = np.clip(self._eyes[:, None, :], lo, hi) - self._eyes[:, None, :]
-        dist = np.sqrt((near * near).sum(axis=2)).tolist()  # [C,N]
-        lo_l, hi_l = lo.tolist(), hi.tolist()
+        lo_l, hi_l, normals_l = lo.tolist(), hi.tolist(), normals.tolist()
         out = []
         for i, b in enumerate(boxes):
-            shade = _FLAT_SHADES.get(b.kind, shades[i])
-            faces = {name: [(q, g) for q, g, v in zip(quads[c, i], shade, visible[c][i],
-                                                      strict=True) if v]
-                     for c, name in enumerate(names)}
+            a, z = lo_l[i], hi_l[i]
+            # block_shade of each face, in plain floats (the same operations, per face).
+            shade = _FLAT_SHADES.get(b.kind) or [_shade(*nrm) for nrm in normals_l[i]]
+            faces, bbox, dist = {}, {}, {}
+            for c, name in enumerate(names):
+                faces[name] = [(quads[c, i, f], shade[f]) for f in range(6) if visible[c][i][f]]
+                bbox[name] = uv_lo[i][c] + uv_hi[i][c]
+                e = self._eyes_l[c]  # distance from the eye to the nearest point of the box
+                d0 = min(max(e[0], a[0]), z[0]) - e[0]
+                d1 = min(max(e[1], a[1]), z[1]) - e[1]
+                d2 = min(max(e[2], a[2]), z[2]) - e[2]
+                dist[name] = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
             creases = ({name: [q for q, _ in faces[name]] for name in names}
                        if b.kind == "block" else None)
-            out.append(_Drawn(b.kind, tuple(lo_l[i]), tuple(hi_l[i]), faces, creases,
-                              {name: uv_lo[i][c] + uv_hi[i][c] for c, name in enumerate(names)},
-                              {name: dist[c][i] for c, name in enumerate(names)}))
+            out.append(_Drawn(b.kind, tuple(a), tuple(z), faces, creases, bbox, dist))
         return out
