@@ -30,7 +30,8 @@ SUPPORT_TOLERANCE_MM = 8.0  # the held block's centre may lie this far off its s
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
 PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, align slide)
 PICK_MARGIN_MM = 8.0
-HOLDING, EMPTY = 0.3, 0.1  # block fraction of the holder window: an object held / none
+HOLDING, EMPTY = 0.6, 0.1  # block fraction of the holder window: an object held / none
+# (a grasped block fills it, 0.9-1; after a touch a block below can show in it, ~0.3)
 CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for CoplDet)
 MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
 
