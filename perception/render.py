@@ -19,7 +19,19 @@ import cv2
 import numpy as np
 
 from .camera import Camera
+from .render_geometry import (
+    AXIS_SHADES,
+    FACES,
+    OUTLINE,
+    UNIT,
+    block_shade,
+    box_geometry,
+    face_shade,
+    geometry,
+)
 from .scene import Box
+
+__all__ = ["Renderer", "block_shade", "box_geometry", "occludes", "paint_order"]
 
 # Gray levels (documented in docs/vision.md; detectors key their thresholds on them).
 BACKGROUND = 0
@@ -28,101 +40,13 @@ ARM_GRAY = 80
 CREASE_GRAY = 60
 _FLAT = {"hand": HAND_GRAY, "arm": ARM_GRAY}
 
-# Unit cube corners (index bit 0 -> x, bit 1 -> y, bit 2 -> z) and faces as corner quads.
-_UNIT = np.array([[(i & 1) * 2 - 1, (i >> 1 & 1) * 2 - 1, (i >> 2 & 1) * 2 - 1]
-                  for i in range(8)], dtype=float) / 2.0
-_FACES = np.array([
-    [0, 2, 6, 4],  # -x
-    [1, 3, 7, 5],  # +x
-    [0, 1, 5, 4],  # -y
-    [2, 3, 7, 6],  # +y
-    [0, 1, 3, 2],  # -z (bottom)
-    [4, 5, 7, 6],  # +z (top)
-])
-_NORMALS = np.array([[-1, 0, 0], [1, 0, 0], [0, -1, 0], [0, 1, 0], [0, 0, -1], [0, 0, 1]], float)
 _SHIFT = 4  # sub-pixel bits for cv2 polygon vertices
 _ONE = 1 << _SHIFT
 _EPS_MM = 0.5  # boxes closer than this along an axis count as touching (stacked)
 _POOL = 24  # precomputed noise images per camera
 _FLAT_ANGLE = 1e-3  # rad; smaller tilts are drawn untilted (< 0.1 mm at 100 mm, 1/30 px)
 
-
-def block_shade(normals: np.ndarray) -> np.ndarray:
-    """Gray level of block faces from their unit normals [...,3]: top 255, x 205, y 170."""
-    up = np.clip(normals[..., 2], 0.0, 1.0)
-    side_x = np.abs(normals[..., 0]) * (1.0 - up)
-    return np.clip(170.0 + 85.0 * up + 35.0 * side_x, 0, 255).astype(np.int32)
-
-
-def _shade(nx: float, ny: float, nz: float) -> int:
-    """``block_shade`` of one unit normal, in plain floats."""
-    up = min(max(nz, 0.0), 1.0)
-    side_x = abs(nx) * (1.0 - up)
-    return int(min(max(170.0 + 85.0 * up + 35.0 * side_x, 0.0), 255.0))
-
-
-def box_geometry(scene: Sequence[Box]) -> tuple[np.ndarray, np.ndarray]:
-    """World corners [N,8,3] and face normals [N,6,3] of the scene's (tilted) boxes."""
-    rows = np.array([(*b.center, *b.size, b.angle) for b in scene], float).reshape(-1, 7)
-    return _geometry(rows)
-
-
-_AXIS_SHADES = block_shade(_NORMALS).tolist()
 _FLAT_SHADES = {kind: [gray] * 6 for kind, gray in _FLAT.items()}
-
-
-def _outline(faces: tuple[int, ...]) -> list[int]:
-    """Corner indices around the union of a box's visible ``faces``, padded to six."""
-    edges: dict[frozenset, int] = {}
-    for f in faces:
-        q = _FACES[f].tolist()
-        for k in range(4):
-            e = frozenset((q[k], q[(k + 1) % 4]))
-            edges[e] = edges.get(e, 0) + 1
-    nbrs: dict[int, list[int]] = {}
-    for e, count in edges.items():
-        if count == 1:  # an edge shared by two visible faces lies inside the outline
-            a, b = tuple(e)
-            nbrs.setdefault(a, []).append(b)
-            nbrs.setdefault(b, []).append(a)
-    cycle = [min(nbrs)]
-    prev = None
-    while True:
-        a, b = nbrs[cycle[-1]]
-        nxt = b if a == prev else a
-        if nxt == cycle[0]:
-            break
-        prev = cycle[-1]
-        cycle.append(nxt)
-    return cycle + cycle[-1:] * (6 - len(cycle))  # a repeated vertex fills nothing more
-
-
-# Every non-empty set of visible faces of an axis-aligned box (one per axis at most).
-_OUTLINE = {vis: _outline(vis) for vis in
-            (tuple(f for f in combo if f >= 0) for combo in
-             ((x, y, z) for x in (-1, 0, 1) for y in (-1, 2, 3) for z in (-1, 4, 5)))
-            if vis}
-
-
-def _geometry(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Corners and normals from rows (cx, cy, cz, sx, sy, sz, angle)."""
-    n = len(rows)
-    centers, sizes, angles = rows[:, :3], rows[:, 3:6], rows[:, 6]
-    local = _UNIT[None, :, :] * sizes[:, None, :]
-    if not angles.any():  # the common case: nothing tilted
-        return local + centers[:, None, :], np.broadcast_to(_NORMALS, (n, 6, 3))
-    # A positive angle turns +x towards +z (counter-clockwise in the x-z plane drawn with
-    # x right and z up, as pymunk draws its plane).
-    c, s = np.cos(angles)[:, None], np.sin(angles)[:, None]
-    corners = np.empty_like(local)
-    corners[..., 0] = c * local[..., 0] - s * local[..., 2]
-    corners[..., 1] = local[..., 1]
-    corners[..., 2] = s * local[..., 0] + c * local[..., 2]
-    normals = np.empty((n, 6, 3))
-    normals[..., 0] = c * _NORMALS[None, :, 0] - s * _NORMALS[None, :, 2]
-    normals[..., 1] = _NORMALS[None, :, 1]
-    normals[..., 2] = s * _NORMALS[None, :, 0] + c * _NORMALS[None, :, 2]
-    return corners + centers[:, None, :], normals
 
 
 class _Drawn:
@@ -254,9 +178,9 @@ class Renderer:
         self._names = list(self.cameras)
         self._MT = np.ascontiguousarray(np.vstack([c.P[:, :3] for c in self.cameras.values()]).T)
         self._p4 = np.concatenate([c.P[:, 3] for c in self.cameras.values()])
-        # Axis-aligned corner k of camera c is M_c (centre + _UNIT[k] * size) + p4_c: linear in
+        # Axis-aligned corner k of camera c is M_c (centre + UNIT[k] * size) + p4_c: linear in
         # (centre, size), so rows (cx, cy, cz, sx, sy, sz, 1) @ _W give h[C, 8, 3] at once.
-        self._W = np.concatenate([np.vstack([c.P[:, :3].T, _UNIT[k][:, None] * c.P[:, :3].T,
+        self._W = np.concatenate([np.vstack([c.P[:, :3].T, UNIT[k][:, None] * c.P[:, :3].T,
                                              c.P[:, 3]])
                                   for c in self.cameras.values() for k in range(8)], axis=1)
         self._eyes = np.array([c.center for c in self.cameras.values()])
@@ -385,7 +309,7 @@ class Renderer:
         bounds = np.concatenate((uv.min(axis=2), uv.max(axis=2)), axis=2).tolist()  # [N,C,4]
         flat = [b.kind in _FLAT for b in boxes]
         # Shaded blocks: every face quad (box-major, then camera), as views cv2 takes.
-        quads = None if all(flat) else list(corners[:, :, _FACES].reshape(-1, 4, 2))
+        quads = None if all(flat) else list(corners[:, :, FACES].reshape(-1, 4, 2))
         # Per box and camera: the faces whose outside the eye is on, and the eye's distance.
         seen, outlines = [], []
         for i in range(n):
@@ -417,7 +341,7 @@ class Renderer:
                 per_cam.append((vis, math.sqrt(dx * dx + dy * dy + dz * dz)))
                 if flat[i] and vis:
                     base = (i * nc + c) * 8
-                    outlines.append([base + j for j in _OUTLINE[vis]])
+                    outlines.append([base + j for j in OUTLINE[vis]])
             seen.append(((x0, y0, z0), (x1, y1, z1), per_cam))
         # A flat-gray box is one convex polygon, its outline: the same pixels as its faces
         # one by one (checked on 8000 random boxes), in one fill instead of two or three.
@@ -431,7 +355,7 @@ class Renderer:
                 bbox[name] = bounds[i][c]
                 if not flat[i]:
                     base = (i * nc + c) * 6
-                    faces[name] = [(quads[base + f], _AXIS_SHADES[f]) for f in vis]
+                    faces[name] = [(quads[base + f], AXIS_SHADES[f]) for f in vis]
                 elif vis:
                     faces[name] = [(polys[p], _FLAT[b.kind])]
                     p += 1
@@ -445,7 +369,7 @@ class Renderer:
     def _prepare_tilted(self, boxes: list[Box], rows: np.ndarray) -> list[_Drawn]:
         """``_prepare`` for a batch with a tilted box: corners and normals rotated."""
         n, names = len(boxes), self._names
-        corners, normals = _geometry(rows)
+        corners, normals = geometry(rows)
         lo, hi = corners.min(axis=1), corners.max(axis=1)
         # Visible when the eye lies beyond the face plane: n.(eye - c) > half-size.
         halfs = np.repeat(rows[:, 3:6] / 2.0, 2, axis=1)
@@ -454,14 +378,14 @@ class Renderer:
         h = (corners.reshape(-1, 3) @ self._MT + self._p4).reshape(n, 8, len(names), 3)
         uv = h[..., :2] / h[..., 2:3]  # [N,8,C,2]
         quads = np.ascontiguousarray(
-            np.rint(uv * _ONE).astype(np.int32).transpose(2, 0, 1, 3)[:, :, _FACES])
+            np.rint(uv * _ONE).astype(np.int32).transpose(2, 0, 1, 3)[:, :, FACES])
         uv_lo, uv_hi = uv.min(axis=1).tolist(), uv.max(axis=1).tolist()  # [N,C,2]
         lo_l, hi_l, normals_l = lo.tolist(), hi.tolist(), normals.tolist()
         out = []
         for i, b in enumerate(boxes):
             a, z = lo_l[i], hi_l[i]
             # block_shade of each face, in plain floats (the same operations, per face).
-            shade = _FLAT_SHADES.get(b.kind) or [_shade(*nrm) for nrm in normals_l[i]]
+            shade = _FLAT_SHADES.get(b.kind) or [face_shade(*nrm) for nrm in normals_l[i]]
             faces, bbox, dist = {}, {}, {}
             for c, name in enumerate(names):
                 faces[name] = [(quads[c, i, f], shade[f]) for f in range(6) if visible[c][i][f]]
