@@ -44,7 +44,9 @@ ERROR_CASES = [
 ]
 
 
-@pytest.mark.parametrize("text,line,fragment", ERROR_CASES, ids=["duplicate", "syntax", "unsafe-tag"])
+@pytest.mark.parametrize(
+    "text,line,fragment", ERROR_CASES, ids=["duplicate", "syntax", "unsafe-tag"]
+)
 def test_errors_name_file_and_line(text, line, fragment):
     with pytest.raises(InputError) as info:
         loads(text, file="x.yaml")
