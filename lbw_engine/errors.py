@@ -46,3 +46,16 @@ class TaskFailed(LbwError):
     """The task failed (recognition or execution did not verify): exit code 1."""
 
     exit_code = 1
+
+
+def read_input(path: str | Path, noun: str = "file", expected: str = "a file") -> str:
+    """The text of an input file; any failure to read it is one InputError naming it."""
+    path = Path(path)
+    try:
+        return path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(f"{noun} not found", file=path) from None
+    except IsADirectoryError:
+        raise InputError(f"is a directory, expected {expected}", file=path) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read {noun} ({exc.__class__.__name__})", file=path) from None

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from .detectors import ActView, Detection, ObjectInfo
-from .errors import InputError
+from .errors import InputError, read_input
 from .rules import RuleSet
 
 HEADER = {"format": "lbw-event-trace", "version": 1}
@@ -182,12 +182,7 @@ def _check_record(path, line: int, data: dict, rules: RuleSet) -> Record:
 def load_trace(path: str | Path, rules: RuleSet) -> Trace:
     """Read and check a trace file (docs/replay-trace.md)."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError("trace file not found", file=path) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read the trace ({exc.__class__.__name__})", file=path) from None
+    text = read_input(path, noun="trace file", expected="a trace file")
     records: list[Record] = []
     header = False
     last = 0.0

@@ -18,7 +18,7 @@ from typing import Any
 
 import yaml
 
-from .errors import InputError
+from .errors import InputError, read_input
 
 
 class LocDict(dict):
@@ -104,15 +104,7 @@ def loads(text: str, file: str | Path = "<string>") -> Any:
 def load_file(path: str | Path) -> Any:
     """Read and parse a YAML file; a missing or unreadable file is an InputError."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError("file not found", file=path) from None
-    except IsADirectoryError:
-        raise InputError("is a directory, expected a YAML file", file=path) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read file ({exc.__class__.__name__})", file=path) from None
-    return loads(text, file=path)
+    return loads(read_input(path, expected="a YAML file"), file=path)
 
 
 def line_of(container: Any, key: Any = None) -> int | None:

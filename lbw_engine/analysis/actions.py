@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, read_input
 from .gcpause import without_gc
 from .relations import Rel, RelationTable
 
@@ -52,14 +52,7 @@ class ActionSequence:
 def load_actions(path: str | Path, table: RelationTable) -> ActionSequence:
     """Read and check an actions.json file; relations are interned into ``table``."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError("file not found", file=path) from None
-    except IsADirectoryError:
-        raise InputError("is a directory, expected an actions.json file", file=path) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read file ({exc.__class__.__name__})", file=path) from None
+    text = read_input(path, expected="an actions.json file")
     try:
         doc = json.loads(text, parse_constant=_reject_constant)
     except json.JSONDecodeError as exc:

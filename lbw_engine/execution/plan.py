@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, read_input
 
 PLOT_HEADS = ("$sequence", "$parallel", "$action")
 SLOTS = ("base", "target", "special")
@@ -61,12 +61,9 @@ class Plan:
 def load(path: str | Path) -> Plan:
     """Read and check a plan.json file."""
     path = Path(path)
+    text = read_input(path, expected="a plan.json file")
     try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError("file not found", file=path) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read file ({exc.__class__.__name__})", file=path) from None
+        doc = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InputError(f"invalid JSON: {exc.msg}", file=path, line=exc.lineno) from None
     return parse(doc, str(path))
