@@ -45,9 +45,9 @@ JAW_AXES = {"x": 0, "y": 1}
 
 _TOP = {
     "arm_frame", "approach_height", "home", "skip_null_moves", "gripper", "release_clearance",
-    "support_relations", "focus", "operations", "macros", "labels",
+    "support_relations", "focus", "operations", "macros", "labels", "balance_margin",
 }
-_REQUIRED = _TOP - {"skip_null_moves", "release_clearance", "labels"}
+_REQUIRED = _TOP - {"skip_null_moves", "release_clearance", "labels", "balance_margin"}
 
 Expr = str | tuple[str, str]  # a name, or (xy-name, z-name) for {xy: P, z: Q}
 
@@ -123,6 +123,7 @@ class CommandRules:
     macros: dict[str, Macro]
     file: str = "<string>"
     labels: dict[str, str] = field(default_factory=dict)  # LABEL (upper case) -> operation
+    balance_margin: float = 0.0  # see balance.py
 
     def operation_of(self, word: str) -> str:
         """The operation a plan leaf's label names (``NO`` -> ``NO-OP``)."""
@@ -230,6 +231,8 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
         macros=macros,
         file=file,
         labels=_labels(cx, doc, operations),
+        balance_margin=(cx.number(doc, "balance_margin", "balance_margin")
+                        if "balance_margin" in doc else 0.0),
     )
 
 

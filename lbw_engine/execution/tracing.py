@@ -1,7 +1,8 @@
 """Plan tracing (Sec. VII-A, "trace the temporal evolution of the plan").
 
-The plan is walked depth first in plot order (a ``$parallel`` runs in its
-listed order). Each recognized operation (a plot leaf) gets a goal and is
+The plan is walked depth first in plot order; a ``$parallel`` runs its
+branches in listed order unless a branch would leave a stack off balance
+while another would not (balance.py). Each recognized operation (a plot leaf) gets a goal and is
 expanded into commands by the Table IX rules:
 
 * ``object`` goals — the operator's focus object where the model currently
@@ -19,15 +20,18 @@ leaves are done, by its SC⁻ / SC⁺ (Sec. VII-A 2c).
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
+from typing import Any
 
 from ..errors import InputError, TaskFailed
 from . import jaws
+from .balance import unbalanced
 from .commandrules import CommandRules
 from .expander import Command, Context, Expander, fvec
 from .geometry import TABLE, Vec, overlap, top
 from .model import ExecModel
-from .plan import Operator, Plan, Relation, action_names
+from .plan import Operator, Plan, Relation
 
 NOT_OBJECTS = frozenset({TABLE, "hand"})
 
@@ -61,23 +65,60 @@ class Trace:
 
 def trace(plan: Plan, rules: CommandRules, model: ExecModel) -> Trace:
     """Walk the plan depth first, expanding each leaf against the (updated) model."""
-    expander = Expander(rules, model)
     ops: list[TracedOp] = []
-
-    def walk(name: str) -> None:
-        op = plan.operators[name]
-        has_leaves = False
-        for child in action_names(op.plot):
-            if child in plan.operators:
-                walk(child)
-            else:
-                has_leaves = True
-                ops.append(_leaf(plan, rules, model, expander, op, child))
-        if has_leaves:
-            model.apply(op.sc_minus, op.sc_plus)
-
-    walk(plan.root)
+    _Walker(plan, rules, model, ops).operator(plan.root)
     return Trace(ops, model)
+
+
+class _Walker:
+    """Depth-first plan walk; a ``$parallel`` runs its branches in a balanced order."""
+
+    def __init__(self, plan: Plan, rules: CommandRules, model: ExecModel,
+                 ops: list[TracedOp]) -> None:
+        """Walk ``plan`` against ``model``, appending traced leaves to ``ops``."""
+        self.plan, self.rules, self.model, self.ops = plan, rules, model, ops
+        self.expander = Expander(rules, model)
+
+    def operator(self, name: str) -> None:
+        """Trace one operator's plot, then apply its SC⁻ / SC⁺ if it has leaves."""
+        op = self.plan.operators[name]
+        if self.plot(op, op.plot):
+            self.model.apply(op.sc_minus, op.sc_plus)
+
+    def plot(self, op: Operator, plot: Any) -> bool:
+        """Trace a plot of ``op``; True if it held a leaf of ``op`` itself."""
+        if plot[0] == "$action":
+            if plot[1] in self.plan.operators:
+                self.operator(plot[1])
+                return False
+            self.ops.append(_leaf(self.plan, self.rules, self.model, self.expander, op,
+                                  plot[1]))
+            return True
+        branches = list(plot[1:])
+        has_leaves = False
+        while branches:
+            first = self._balanced(op, branches) if plot[0] == "$parallel" else 0
+            has_leaves |= self.plot(op, branches.pop(first))
+        return has_leaves
+
+    def _balanced(self, op: Operator, branches: list[Any]) -> int:
+        """The first listed branch after which every stack still stands (balance.py).
+
+        A ``$parallel`` orders nothing (Fig. 17), so a branch that would tip
+        the structure over waits for the others; if every branch would, the
+        listed order is kept. Each candidate is traced on a copy of the model.
+        """
+        if len(branches) < 2:
+            return 0
+        for i, branch in enumerate(branches):
+            trial = _Walker(self.plan, self.rules, copy.deepcopy(self.model), [])
+            try:
+                trial.plot(op, branch)
+            except TaskFailed:
+                continue
+            if unbalanced(trial.model, self.rules.balance_margin) is None:
+                return i
+        return 0
 
 
 def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
