@@ -206,9 +206,22 @@ class EnvModel:
         return best
 
     # --- snapshots ---------------------------------------------------------------
+    def copied(self, names: Iterable[str]) -> list[str]:
+        """The nodes a state copy of ``names`` covers: they and what rests on them.
+
+        Table VI copies an ACT-node's ENV-nodes with their subnode links (Fig. 8:
+        supporting, holding), so the blocks riding on a moved plank are part of
+        its state: Fig. 14's SI keeps them on the plank, which is what makes the
+        plank's ACHIEVE a PACHIEVE. The table's riders (the whole workspace) are
+        not followed.
+        """
+        names = [n for n in dict.fromkeys(names) if n in self.nodes and n != WORLD]
+        riders = [r for n in names if self.nodes[n].kind == "Loc" for r in self.supported_by(n)]
+        return list(dict.fromkeys([*names, *riders]))
+
     def snapshot(self, names: Iterable[str]) -> State:
         """Copies of the named nodes' relations and positions (ACT-node IS/FS)."""
-        names = [n for n in dict.fromkeys(names) if n in self.nodes and n != WORLD]
+        names = self.copied(names)
         rels = [replace(r) for r in self.relations if r.subject in names]
         positions = {n: self.nodes[n].position for n in names if self.nodes[n].position}
         return State(rels, positions)

@@ -268,4 +268,4 @@ class Recognizer:
             self.env.apply_effect(self.rules.effects[node.operation], binds, node.measured)
         node.final_state = self.env.snapshot(node.nodes())
         if node.initial_state is not None:
-            node.initial_state = node.initial_state.restricted(node.nodes())
+            node.initial_state = node.initial_state.restricted(self.env.copied(node.nodes()))

@@ -80,3 +80,26 @@ def test_run_with_video_and_report_adds_the_pictures(tmp_path):
     assert not [n for n in names if n.startswith(".lbw-staging")]
     html = (tmp_path / "report.html").read_text()
     assert "<svg" in html and "achieve" in html
+
+
+def test_inverted_arch_learned_from_images_matches_fig17_and_fig14(tmp_path):
+    assert main(["run", str(ROOT / "scenarios" / "inverted-arch.yaml"),
+                 "--out", str(tmp_path)]) == 0
+    plan = json.loads((tmp_path / "plan.json").read_text())
+    ops = plan["operators"]
+
+    def kids(name):
+        return [p[1] for p in ops[name]["plot"][1:]]
+
+    root = ops[plan["root"]]
+    assert root["plot"][0] == "$sequence"
+    pillar, rest = kids(plan["root"])  # Fig. 17: build03 = seq(achieve01, build02)
+    assert ops[pillar]["class"] == "ACHIEVE" and ops[pillar]["base"] == ["pillar"]
+    assert ops[rest]["plot"][0] == "$sequence"
+    bricks, plank = kids(rest)  # build02 = seq(build01, pachieve01)
+    assert ops[bricks]["plot"][0] == "$parallel" and len(kids(bricks)) == 2
+    pach = ops[plank]  # Fig. 14: the plank carried with both bricks, their relations kept
+    assert pach["class"] == "PACHIEVE"
+    assert pach["base"] == ["plank"] and pach["target"] == ["pillar"]
+    assert pach["special"] == ["brick-a", "brick-b"]
+    assert sorted(r[1] for r in pach["sp"]) == ["brick-a", "brick-b"]
