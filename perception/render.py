@@ -22,12 +22,12 @@ from .camera import Camera
 from .render_geometry import (
     AXIS_SHADES,
     FACES,
+    NORMALS,
     OUTLINE,
     UNIT,
     block_shade,
     box_geometry,
     face_shade,
-    geometry,
 )
 from .scene import Box
 
@@ -47,6 +47,8 @@ _POOL = 24  # precomputed noise images per camera
 _FLAT_ANGLE = 1e-3  # rad; smaller tilts are drawn untilted (< 0.1 mm at 100 mm, 1/30 px)
 
 _FLAT_SHADES = {kind: [gray] * 6 for kind, gray in _FLAT.items()}
+_UNIT_L = [tuple(u) for u in UNIT.tolist()]
+_NORMALS_L = [tuple(v) for v in NORMALS.tolist()]
 
 
 class _Drawn:
@@ -306,10 +308,11 @@ class Renderer:
         h = (np.array([r[:6] + (1.0,) for r in rows]) @ self._W).reshape(n, nc, 8, 3)
         uv = h[..., :2] / h[..., 2:3]  # [N,C,8,2]
         corners = np.rint(uv * _ONE).astype(np.int32)  # fixed point, _SHIFT fraction bits
-        bounds = np.concatenate((uv.min(axis=2), uv.max(axis=2)), axis=2).tolist()  # [N,C,4]
+        # Image bounds in one reduction: the minimum of (uv, -uv) is (min uv, -max uv), exactly.
+        bounds = np.concatenate((uv, -uv), axis=3).min(axis=2).tolist()  # [N,C,4]
         flat = [b.kind in _FLAT for b in boxes]
-        # Shaded blocks: every face quad (box-major, then camera), as views cv2 takes.
-        quads = None if all(flat) else list(corners[:, :, FACES].reshape(-1, 4, 2))
+        # Shaded blocks: every face quad [N,C,6,4,2]; only the visible ones become views.
+        quads = None if all(flat) else np.ascontiguousarray(corners[:, :, FACES])
         # Per box and camera: the faces whose outside the eye is on, and the eye's distance.
         seen, outlines = [], []
         for i in range(n):
@@ -352,10 +355,11 @@ class Renderer:
             faces, bbox, dist = {}, {}, {}
             for c, name in enumerate(names):
                 vis, dist[name] = per_cam[c]
-                bbox[name] = bounds[i][c]
+                u0, v0, u1, v1 = bounds[i][c]
+                bbox[name] = [u0, v0, -u1, -v1]
                 if not flat[i]:
-                    base = (i * nc + c) * 6
-                    faces[name] = [(quads[base + f], AXIS_SHADES[f]) for f in vis]
+                    q = quads[i, c]
+                    faces[name] = [(q[f], AXIS_SHADES[f]) for f in vis]
                 elif vis:
                     faces[name] = [(polys[p], _FLAT[b.kind])]
                     p += 1
@@ -367,35 +371,54 @@ class Renderer:
         return out
 
     def _prepare_tilted(self, boxes: list[Box], rows: np.ndarray) -> list[_Drawn]:
-        """``_prepare`` for a batch with a tilted box: corners and normals rotated."""
-        n, names = len(boxes), self._names
-        corners, normals = geometry(rows)
-        lo, hi = corners.min(axis=1), corners.max(axis=1)
-        # Visible when the eye lies beyond the face plane: n.(eye - c) > half-size.
-        halfs = np.repeat(rows[:, 3:6] / 2.0, 2, axis=1)
-        visible = (np.einsum("nfk,cnk->cnf", normals, self._eyes[:, None, :]
-                             - rows[None, :, :3]) > halfs[None] + 1e-6).tolist()
-        h = (corners.reshape(-1, 3) @ self._MT + self._p4).reshape(n, 8, len(names), 3)
+        """``_prepare`` for a batch with a tilted box: corners and normals rotated.
+
+        The geometry of ``render_geometry.geometry`` in plain floats (the same operations,
+        so the same values): a batch is usually one held block, where a dozen small numpy
+        calls cost more than the arithmetic. Only the projection stays one numpy product.
+        """
+        n, names, eyes = len(boxes), self._names, self._eyes_l
+        cos_l, sin_l = np.cos(rows[:, 6]).tolist(), np.sin(rows[:, 6]).tolist()
+        pts: list[tuple[float, float, float]] = []
+        geo = []
+        for i, (cx, cy, cz, sx, sy, sz, _) in enumerate(rows.tolist()):
+            c, s = cos_l[i], sin_l[i]
+            # A positive angle turns +x towards +z (see render_geometry.geometry).
+            corners = [(c * (ux * sx) - s * (uz * sz) + cx, uy * sy + cy,
+                        s * (ux * sx) + c * (uz * sz) + cz) for ux, uy, uz in _UNIT_L]
+            pts += corners
+            normals = [(c * nx - s * nz, ny, s * nx + c * nz) for nx, ny, nz in _NORMALS_L]
+            halfs = (sx / 2.0 + 1e-6, sy / 2.0 + 1e-6, sz / 2.0 + 1e-6)
+            # Visible when the eye lies beyond the face plane: n.(eye - c) > half-size.
+            vis = []
+            for ex, ey, ez in eyes:
+                dx, dy, dz = ex - cx, ey - cy, ez - cz
+                vis.append([nx * dx + ny * dy + nz * dz > halfs[f >> 1]
+                            for f, (nx, ny, nz) in enumerate(normals)])
+            xs, ys, zs = zip(*corners, strict=True)
+            geo.append(((min(xs), min(ys), min(zs)), (max(xs), max(ys), max(zs)), normals, vis))
+        h = (np.array(pts) @ self._MT + self._p4).reshape(n, 8, len(names), 3)
         uv = h[..., :2] / h[..., 2:3]  # [N,8,C,2]
         quads = np.ascontiguousarray(
             np.rint(uv * _ONE).astype(np.int32).transpose(2, 0, 1, 3)[:, :, FACES])
-        uv_lo, uv_hi = uv.min(axis=1).tolist(), uv.max(axis=1).tolist()  # [N,C,2]
-        lo_l, hi_l, normals_l = lo.tolist(), hi.tolist(), normals.tolist()
+        # (min uv, -max uv) over the corners in one reduction, exactly.
+        bounds = np.concatenate((uv, -uv), axis=3).min(axis=1).tolist()  # [N,C,4]
         out = []
         for i, b in enumerate(boxes):
-            a, z = lo_l[i], hi_l[i]
+            a, z, normals, vis = geo[i]
             # block_shade of each face, in plain floats (the same operations, per face).
-            shade = _FLAT_SHADES.get(b.kind) or [face_shade(*nrm) for nrm in normals_l[i]]
+            shade = _FLAT_SHADES.get(b.kind) or [face_shade(*nrm) for nrm in normals]
             faces, bbox, dist = {}, {}, {}
             for c, name in enumerate(names):
-                faces[name] = [(quads[c, i, f], shade[f]) for f in range(6) if visible[c][i][f]]
-                bbox[name] = uv_lo[i][c] + uv_hi[i][c]
-                e = self._eyes_l[c]  # distance from the eye to the nearest point of the box
+                faces[name] = [(quads[c, i, f], shade[f]) for f in range(6) if vis[c][f]]
+                u0, v0, u1, v1 = bounds[i][c]
+                bbox[name] = [u0, v0, -u1, -v1]
+                e = eyes[c]  # distance from the eye to the nearest point of the box
                 d0 = min(max(e[0], a[0]), z[0]) - e[0]
                 d1 = min(max(e[1], a[1]), z[1]) - e[1]
                 d2 = min(max(e[2], a[2]), z[2]) - e[2]
                 dist[name] = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
             creases = ({name: [q for q, _ in faces[name]] for name in names}
                        if b.kind == "block" else None)
-            out.append(_Drawn(b.kind, tuple(a), tuple(z), faces, creases, bbox, dist))
+            out.append(_Drawn(b.kind, a, z, faces, creases, bbox, dist))
         return out
