@@ -11,10 +11,10 @@ failure. Run: ``python -m bench layouts`` (or ``python bench/bench_layouts.py
 from __future__ import annotations
 
 import argparse
-import random
 import time
 from typing import Any
 
+import numpy as np
 import yaml
 
 from lbw_engine.execution import commandrules
@@ -23,10 +23,6 @@ from lbw_engine.paths import bundled_scenario, default_rules_dir
 from lbw_engine.yamlio import load_file
 
 SCENARIOS = ("build-table", "inverted-arch")
-GAP = 40.0  # mm kept free between boxes, so the gripper's jaws fit beside each
-TABLE = ((-300.0, 300.0), (0.0, 400.0))
-
-
 def _plain(value: Any) -> Any:
     """LocDict/LocList -> dict/list, so the document can be dumped again."""
     if isinstance(value, dict):
@@ -36,35 +32,25 @@ def _plain(value: Any) -> Any:
     return value
 
 
-def _clear(center: tuple[float, float], size: tuple[float, float],
-           placed: list[tuple[tuple[float, float], tuple[float, float]]]) -> bool:
-    """True if a box at ``center`` keeps GAP from every box in ``placed``."""
-    return all(abs(center[0] - c[0]) * 2 >= size[0] + s[0] + 2 * GAP
-               or abs(center[1] - c[1]) * 2 >= size[1] + s[1] + 2 * GAP
-               for c, s in placed)
-
-
 def random_layout(scenario: Any, seed: int) -> dict[str, dict[str, Any]]:
-    """Execution objects of ``scenario`` scattered at random, clear of the final structure."""
-    rng = random.Random(seed)
+    """Execution objects of ``scenario`` scattered at random, clear of the final structure.
+
+    Spots come from the scenario generator's ``free_spot``, whose margins leave
+    room for the gripper's fingers beside every box.
+    """
+    from perception.generator import footprint, free_spot
+
+    rng = np.random.default_rng(seed)
     final = scenario.states[-1]
-    keep_out = [((c[0], c[1]), (final.size[n][0], final.size[n][1]))
-                for n, c in final.center.items() if final.support.get(n) != ("table",)
-                or any(n in s for s in final.support.values())]
+    taken = [footprint(c[0], c[1], final.size[n][0], final.size[n][1])
+             for n, c in final.center.items() if final.support.get(n) != ("table",)
+             or any(n in s for s in final.support.values())]
     objects = (scenario.execute or scenario.teach).objects
     layout: dict[str, dict[str, Any]] = {}
-    placed = list(keep_out)
     for name, spec in sorted(objects.items(), key=lambda kv: -kv[1].size[0] * kv[1].size[1]):
-        sx, sy = spec.size[0], spec.size[1]
-        for _ in range(2000):
-            x = rng.uniform(TABLE[0][0] + sx / 2 + 5, TABLE[0][1] - sx / 2 - 5)
-            y = rng.uniform(TABLE[1][0] + sy / 2 + 5, TABLE[1][1] - sy / 2 - 5)
-            if _clear((x, y), (sx, sy), placed):
-                break
-        else:
-            raise RuntimeError(f"no room for {name} in layout seed {seed}")
-        placed.append(((x, y), (sx, sy)))
-        layout[name] = {"shape": spec.shape, "at": [round(x, 1), round(y, 1)]}
+        x, y, fp = free_spot(rng, spec.size[:2], taken)
+        taken.append(fp)
+        layout[name] = {"shape": spec.shape, "at": [x, y]}
     return layout
 
 

@@ -75,7 +75,7 @@ class Generated:
         return load_text(self.text, f"<generated seed {self.seed} {self.level}>")
 
 
-def _fp(cx: float, cy: float, sx: float, sy: float) -> tuple[float, float, float, float]:
+def footprint(cx: float, cy: float, sx: float, sy: float) -> tuple[float, float, float, float]:
     """Footprint rectangle of a box of size sx x sy centred at cx, cy."""
     return (cx - sx / 2, cx + sx / 2, cy - sy / 2, cy + sy / 2)
 
@@ -96,7 +96,7 @@ def _tower(rng: np.random.Generator, tag: str, cx: float, cy: float) -> _Structu
                            else {"obj": name, "on": below})
         below = name
     w = CATALOGUE[shapes[0]]
-    st.footprint = _fp(cx, cy, w[0], w[1])
+    st.footprint = footprint(cx, cy, w[0], w[1])
     return st
 
 
@@ -112,7 +112,7 @@ def _arch(rng: np.random.Generator, tag: str, cx: float, cy: float) -> _Structur
         st.achieves.append({"obj": pillars[k], "on": "table", "at": [xs[k], cy]})
     st.objects[f"{tag}-beam"] = "beam"
     st.achieves.append({"obj": f"{tag}-beam", "on": [pillars[k] for k in order]})
-    st.footprint = _fp(cx, cy, CATALOGUE["beam"][0], CATALOGUE["beam"][1])
+    st.footprint = footprint(cx, cy, CATALOGUE["beam"][0], CATALOGUE["beam"][1])
     return st
 
 
@@ -130,7 +130,7 @@ def _table(rng: np.random.Generator, tag: str, cx: float, cy: float) -> _Structu
         legs.append(name)
     st.objects[f"{tag}-top"] = "plate"
     st.achieves.append({"obj": f"{tag}-top", "on": legs})
-    st.footprint = _fp(cx, cy, *CATALOGUE["plate"][:2])
+    st.footprint = footprint(cx, cy, *CATALOGUE["plate"][:2])
     return st
 
 
@@ -156,7 +156,7 @@ def _pyramid(rng: np.random.Generator, tag: str, cx: float, cy: float) -> _Struc
                 st.achieves.append({"obj": name, "on": [rows[-1][j], rows[-1][j + 1]]})
             names.append((j, name))
         rows.append([name for _, name in sorted(names)])
-    st.footprint = _fp(cx, cy, CATALOGUE["cube"][0], n * pitch - gap)
+    st.footprint = footprint(cx, cy, CATALOGUE["cube"][0], n * pitch - gap)
     return st
 
 
@@ -174,7 +174,7 @@ def _inverted_arch(rng: np.random.Generator, tag: str, cx: float, cy: float) -> 
         loads.reverse()
     st.achieves = ([place_pillar] if pillar_first else []) + loads + \
         ([] if pillar_first else [place_pillar]) + [{"obj": plank, "on": pillar}]
-    st.footprint = _fp(cx, cy, *CATALOGUE["plank"][:2])
+    st.footprint = footprint(cx, cy, *CATALOGUE["plank"][:2])
     st.carriers[plank] = CATALOGUE["plank"][:2]
     return st
 
@@ -197,18 +197,22 @@ def _clear(fp: tuple, taken: list[tuple]) -> bool:
                b1 + MARGIN_Y <= y0 for a0, a1, b0, b1 in taken)
 
 
-def _spot(rng: np.random.Generator, size: Sequence[float], taken: list[tuple]) -> tuple:
-    """A random integer centre where a box of ``size`` fits clear of ``taken``."""
+def free_spot(rng: np.random.Generator, size: Sequence[float], taken: list[tuple]) -> tuple:
+    """A random integer centre where a box of ``size`` fits clear of ``taken``.
+
+    Returns (x, y, footprint); footprints are (x0, x1, y0, y1) as from ``footprint``.
+    The margins leave room for the gripper's fingers beside every box.
+    """
     for _ in range(4000):
         cx = float(rng.integers(int(TABLE_X[0]), int(TABLE_X[1]) + 1))
         cy = float(rng.integers(int(TABLE_Y[0]), int(TABLE_Y[1]) + 1))
-        fp = _fp(cx, cy, size[0], size[1])
+        fp = footprint(cx, cy, size[0], size[1])
         if _clear(fp, taken):
             return cx, cy, fp
-    raise _Crowded()
+    raise Crowded()
 
 
-class _Crowded(Exception):
+class Crowded(Exception):
     """The table is too full for this draw; the generator draws again."""
 
 
@@ -230,7 +234,7 @@ def _draw(rng: np.random.Generator) -> tuple[list[_Structure], dict, dict, dict,
     taken: list[tuple] = []
     structures = []
     for i, kind in enumerate(kinds, 1):
-        cx, cy, fp = _spot(rng, _SIZE[kind], taken)
+        cx, cy, fp = free_spot(rng, _SIZE[kind], taken)
         st = BUILDERS[kind](rng, f"{kind.split('-')[0][:3]}{i}", cx, cy)
         taken.append(st.footprint)
         structures.append(st)
@@ -242,7 +246,7 @@ def _draw(rng: np.random.Generator) -> tuple[list[_Structure], dict, dict, dict,
     for layout in (teach, execute):
         busy = list(sites)
         for name, shape in {**shapes, **distract}.items():
-            x, y, fp = _spot(rng, CATALOGUE[shape][:2], busy)
+            x, y, fp = free_spot(rng, CATALOGUE[shape][:2], busy)
             busy.append(fp)
             layout[name] = (x, y)
     order = _interleave(rng, [st.achieves for st in structures]) if rng.random() < 0.5 else \
@@ -284,7 +288,7 @@ def generate(seed: int, level: str = "nominal", structures: Sequence[str] | None
     for _ in range(100):
         try:
             sts, teach, execute, distract, order = _draw(rng)
-        except _Crowded:
+        except Crowded:
             continue
         if structures is not None and [s.kind for s in sts] != list(structures):
             continue
