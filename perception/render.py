@@ -44,6 +44,7 @@ _SHIFT = 4  # sub-pixel bits for cv2 polygon vertices
 _ONE = 1 << _SHIFT
 _EPS_MM = 0.5  # boxes closer than this along an axis count as touching (stacked)
 _POOL = 24  # precomputed noise images per camera
+_CACHE_SLACK = 64  # prepared boxes kept beyond two frames' worth (see _lookup)
 _FLAT_ANGLE = 1e-3  # rad; smaller tilts are drawn untilted (< 0.1 mm at 100 mm, 1/30 px)
 
 _FLAT_SHADES = {kind: [gray] * 6 for kind, gray in _FLAT.items()}
@@ -221,7 +222,10 @@ class Renderer:
         drawn = [cache.get(k) for k in keys]  # one hash per box and frame
         missing = [i for i, d in enumerate(drawn) if d is None]
         if missing:
-            if len(cache) > 4096:  # a long run with a moving hand: forget old poses
+            if len(cache) > _CACHE_SLACK + 2 * len(keys):
+                # Only boxes of the previous frame can be reused (a trembling hand never
+                # repeats a pose), so forget the rest often: a large cache of dead poses
+                # is what made the cyclic garbage collector cost ~8% of a frame.
                 self._cache = cache = {k: d for k, d in cache.items() if d.seen >= self._step - 1}
             fresh = self._prepare([scene[i] for i in missing])
             for i, d in zip(missing, fresh, strict=True):

@@ -135,3 +135,21 @@ def test_render_returns_fresh_arrays(noise):
     a = r.render(scene)["top"]
     a[:] = 7
     assert r.render(scene)["top"].max() > 200
+
+
+def test_prepared_box_cache_stays_small_over_a_long_moving_hand_run():
+    # A trembling hand never repeats a pose: the renderer must forget old poses instead
+    # of piling them up (a large live heap made garbage collection ~8% of a frame).
+    r = Renderer(CAMS, pixel_noise=0.0)
+    prepared = []
+    real = r._prepare
+    r._prepare = lambda boxes: (prepared.extend(b.kind for b in boxes), real(boxes))[1]
+    blocks = [Box("block", (x, 150, 25), (30, 30, 50)) for x in (-60, 0, 60)]
+    sizes = []
+    for k in range(600):
+        hand = Box("hand", (-100 + k * 0.3, 150, 200 + (k % 7) * 0.1), (50, 50, 30))
+        r.render(blocks + [hand])
+        sizes.append(len(r._cache))
+    assert max(sizes) <= 64 + 2 * 4 + 1
+    # Pruning keeps what the last frame showed: the resting blocks are projected once.
+    assert prepared.count("block") == 3 and prepared.count("hand") == 600
