@@ -68,7 +68,7 @@ def real_time(name: str = "build-table") -> dict:
     """End-to-end and recognizer-only real-time factors, and the pixel fraction."""
     from lbw_engine.rules import load_rules
     from perception.camera import default_cameras
-    from perception.envnodes import watch_frames
+    from perception.envnodes_adapters import watch_frames
     from perception.scenario import load
     from perception.stream import demonstration_frames, teach_names
 

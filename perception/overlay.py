@@ -4,7 +4,7 @@
 side views side by side with the live attention windows (yellow), the
 hand-tracker's windows (green), and under them the attention stack (Sec. V-A,
 one line per level) and the operation being recognized. ``watch_monitored``
-is ``perception.envnodes.watch_frames`` with a per-frame hook, called after
+is ``perception.envnodes_adapters.watch_frames`` with a per-frame hook, called after
 the recognizer has finished each frame (so the picture shows what the
 recognizer knew at that frame: online, no look-ahead). ``record_demonstration``
 streams the monitor frames into an MP4 and keeps a few for report.html;
@@ -26,7 +26,8 @@ from lbw_engine.recognizer import Recognizer
 from lbw_engine.rules import RuleSet
 
 from .camera import Camera, default_cameras
-from .envnodes import Eyes, perception_detectors
+from .envnodes import Eyes
+from .envnodes_adapters import perception_detectors
 from .frames import Frame
 from .render import Renderer
 

@@ -1,7 +1,7 @@
 """``lbw watch SCENARIO --out DIR [--rules DIR]``: recognize a demonstration from images.
 
 The world side (demonstrator and renderer, ``perception.stream``) produces
-frames one at a time; the recognizer (``perception.envnodes.watch_frames``)
+frames one at a time; the recognizer (``perception.envnodes_adapters.watch_frames``)
 receives only that frame iterator, the camera models, the shape database and
 the teach names as a naming hint (docs/seeing.md). Writes ``actions.json``.
 """
@@ -31,7 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def watch(scenario, rules, fps: float = 30.0, pixel_noise: float | None = None):
     """Simulate, render and recognize online; returns (recognizer, eyes)."""
     from perception.camera import default_cameras
-    from perception.envnodes import watch_frames
+    from perception.envnodes_adapters import watch_frames
     from perception.stream import demonstration_frames, teach_names
 
     cameras = default_cameras()

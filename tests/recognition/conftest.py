@@ -12,7 +12,7 @@ from lbw_engine.actions import to_actions
 from lbw_engine.rules import load_rules
 from perception.camera import default_cameras
 from perception.demonstrator import Demonstration
-from perception.envnodes import watch_frames
+from perception.envnodes_adapters import watch_frames
 from perception.groundtruth import ground_truth
 from perception.scenario import load
 from perception.stream import demonstration_frames, teach_names

@@ -26,7 +26,7 @@ import numpy as np
 from lbw_engine.actions import to_actions
 from lbw_engine.rules import load_rules
 from perception.camera import default_cameras
-from perception.envnodes import watch_frames
+from perception.envnodes_adapters import watch_frames
 from perception.frames import Frame
 data = np.load(sys.argv[1])
 hint = json.loads(sys.argv[2])

@@ -13,7 +13,7 @@ import pytest
 from lbw_engine.actions import to_actions
 from lbw_engine.rules import load_rules
 from perception.camera import default_cameras
-from perception.envnodes import watch_frames
+from perception.envnodes_adapters import watch_frames
 from perception.generator import generate
 from perception.groundtruth import expected_operations
 from perception.stream import demonstration_frames, teach_names
