@@ -32,7 +32,8 @@ from lbw_engine.envmodel import HAND, TABLE, EnvModel, EnvNode
 from lbw_engine.rules import RuleSet
 
 from .camera import WORKSPACE_HI, WORKSPACE_LO, Camera
-from .detectors_vision import ChangeNode, CoplanarNode, SearchNode, box, held_box
+from .detectors_search import SearchNode
+from .detectors_vision import ChangeNode, CoplanarNode, box, held_box
 from .envnodes_hand import HandPath, footprint, median3
 from .frames import Frame
 from .vfd import Region3D
