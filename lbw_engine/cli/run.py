@@ -4,12 +4,13 @@ watch (demonstrator → cameras → detectors → recognizer, Sec. III–V) →
 analyze (templates, state changes, dependency closures, Sec. VI) →
 execute (matching, Table IX commands, robot, verification, Sec. VII).
 Writes actions.json, plan.json, plan.txt, commands.txt and execution.json.
-Exit 0 only when the execution verified (or, for a scenario without an
-``execute`` workspace, when a plan was learned); 1 when a phase failed; 2 on
-bad input. ``pipeline()`` is the reusable core (demo, bench and report use it).
+Exit 0 only when the recognized sequence is the demonstrated one and the
+execution verified (or, for a scenario without an ``execute`` workspace, a plan
+was learned); 1 when a phase failed or did not verify; 2 on bad input.
+``pipeline()`` is the reusable core (demo, bench and report use it).
 
-The ground truth is consulted only *after* recognition, to report how the
-recognized sequence compares with what the demonstrator did (evaluation).
+The ground truth is consulted only *after* recognition, to check the
+recognized sequence against what the demonstrator did (evaluation).
 """
 
 from __future__ import annotations
@@ -61,7 +62,8 @@ class RunResult:
 
     @property
     def success(self) -> bool:
-        """A plan was learned and, where there is an execute workspace, it verified."""
+        """No phase failed: recognized as demonstrated (design.md: a recognition that does
+        not verify fails the task), a plan learned, and any execution verified."""
         if self.failure or self.plan is None:
             return False
         return self.execution is None or bool(self.execution.success)
@@ -82,9 +84,15 @@ def compare_with_truth(scenario: Any, actions: dict[str, Any]) -> dict[str, Any]
     """The recognized top-level sequence against the ground truth (evaluation only)."""
     from perception.groundtruth import expected_operations
 
+    from ..report.metrics import compare_sequence
+
     expected = list(expected_operations(scenario))
     recognized = [op["operation"] for op in actions["operations"]]
-    return {"expected": expected, "recognized": recognized, "exact": expected == recognized}
+    # The bench's definition (lbw_engine/report/metrics.py): a repeated closing
+    # operation counts once (the hand leaving may be split, Fig. 12).
+    same = compare_sequence([{"operation": op} for op in expected], actions["operations"])
+    return {"expected": expected, "recognized": recognized, "exact": same["exact"],
+            "difference": same["difference"]}
 
 
 def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30.0,
@@ -126,6 +134,10 @@ def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30
         result.seconds["execute"] = time.perf_counter() - clock
         if not result.execution.success:
             result.failure = f"execution: {result.execution.message}"
+    if result.failure is None and not result.recognition["exact"]:
+        # Every phase ran (their files are written), but what was learned is not what
+        # was shown: the task failed (design.md exit codes).
+        result.failure = f"recognition: {result.recognition['difference']}"
     return result
 
 

@@ -1,0 +1,48 @@
+"""`lbw run`'s verdict: a recognition that differs from the demonstration fails the task
+(design.md: exit 1 when recognition or execution did not verify), with the same notion
+of "exact" as `lbw bench` (a repeated closing operation counts once)."""
+
+import json
+from pathlib import Path
+
+from lbw_engine.cli import main
+from lbw_engine.cli import run as runmod
+from perception.groundtruth import expected_operations
+from perception.scenario import load
+
+ROOT = Path(__file__).resolve().parent.parent
+SCENARIO = ROOT / "scenarios" / "place-and-align.yaml"
+
+
+def _ops(names):
+    return {"operations": [{"operation": n} for n in names]}
+
+
+def test_exact_counts_a_repeated_closing_operation_once():
+    sc = load(SCENARIO)
+    truth = list(expected_operations(sc))
+    split_leave = runmod.compare_with_truth(sc, _ops([*truth, truth[-1]]))
+    assert split_leave["exact"] and split_leave["difference"] == "identical"
+    swapped = list(truth)
+    swapped[1] = "NO-OP" if truth[1] != "NO-OP" else "PICK"
+    wrong = runmod.compare_with_truth(sc, _ops(swapped))
+    assert not wrong["exact"] and wrong["difference"].startswith("at #1: expected")
+
+
+def test_a_recognition_that_does_not_verify_exits_1_with_all_files(tmp_path, monkeypatch):
+    real = runmod.compare_with_truth
+
+    def one_op_wrong(scenario, actions):
+        rec = real(scenario, actions)
+        return dict(rec, exact=False, difference="at #1: expected PICK, got NO-OP")
+
+    monkeypatch.setattr(runmod, "compare_with_truth", one_op_wrong)
+    code = main(["run", str(SCENARIO), "--out", str(tmp_path)])
+    assert code == 1
+    verdict = json.loads((tmp_path / "execution.json").read_text())
+    assert verdict["success"] is False
+    assert verdict["failure"] == "recognition: at #1: expected PICK, got NO-OP"
+    # every phase still ran: the structure was built and verified, and every file written
+    assert verdict["stage"] == "verification" and verdict["mismatches"] == []
+    assert {"actions.json", "plan.json", "plan.txt", "commands.txt"} <= \
+        {p.name for p in tmp_path.iterdir()}
