@@ -46,3 +46,16 @@ def test_a_recognition_that_does_not_verify_exits_1_with_all_files(tmp_path, mon
     assert verdict["stage"] == "verification" and verdict["mismatches"] == []
     assert {"actions.json", "plan.json", "plan.txt", "commands.txt"} <= \
         {p.name for p in tmp_path.iterdir()}
+
+
+def test_lbw_watch_exits_0_when_exact_and_1_when_not(tmp_path, monkeypatch, capsys):
+    assert main(["watch", str(SCENARIO), "--out", str(tmp_path / "ok")]) == 0
+    ok = json.loads((tmp_path / "ok" / "actions.json").read_text())
+    assert [op["operation"] for op in ok["operations"]] == \
+        list(expected_operations(load(SCENARIO)))
+    real = runmod.compare_with_truth
+    monkeypatch.setattr(runmod, "compare_with_truth", lambda sc, actions: dict(
+        real(sc, actions), exact=False, difference="at #3: expected PLACE-ON-TABLE, got NO-OP"))
+    assert main(["watch", str(SCENARIO), "--out", str(tmp_path / "bad")]) == 1
+    assert "at #3: expected PLACE-ON-TABLE, got NO-OP" in capsys.readouterr().err
+    assert (tmp_path / "bad" / "actions.json").exists()  # published all the same

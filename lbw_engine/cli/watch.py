@@ -40,7 +40,8 @@ def watch(scenario, rules, fps: float = 30.0, pixel_noise: float | None = None):
 
 
 def run(args: argparse.Namespace) -> int:
-    """Watch the demonstration and publish actions.json; exit 1 if recognition failed."""
+    """Watch the demonstration and publish actions.json; exit 1 if recognition failed or
+    does not verify against the scenario's demonstration."""
     from perception.scenario import load
 
     if args.fps <= 0:
@@ -60,6 +61,12 @@ def run(args: argparse.Namespace) -> int:
         problems.append("no operations were recognized")
     elif any(op is None for op in ops):
         problems.append("some motions could not be classified")
+    else:  # evaluation only: the scenario says what was demonstrated
+        from .run import compare_with_truth
+
+        same = compare_with_truth(scenario, actions)
+        if not same["exact"]:
+            problems.append(f"the sequence is not the demonstrated one ({same['difference']})")
     if problems:
         print(f"lbw watch: recognition failed: {'; '.join(problems)}", file=sys.stderr)
         return 1
