@@ -8,6 +8,12 @@ object resting on other objects stands while the centre of mass of it and
 everything riding on it (mass taken proportional to volume, all blocks being
 of one material) lies over the region where it meets its supports, shrunk by
 ``balance_margin`` (commands.yaml) for measurement error.
+
+The same test guards each placement (``steadied``): a taught placement whose
+load could not stand where it is put (its offset on the support was measured
+wrong while watching: the demonstrated structure stood) is moved the least
+distance that puts the load's centre of mass ``steady_margin`` inside where it
+meets its supports.
 """
 
 from __future__ import annotations
@@ -28,6 +34,41 @@ def unbalanced(model: ExecModel, margin: float) -> str | None:
         if not _over(name, under, model, margin):
             return name
     return None
+
+
+def steadied(model: ExecModel, name: str, xy: tuple[float, float], supports: list[str],
+             margin: float, steady: float) -> tuple[tuple[float, float], float]:
+    """Where ``name`` (held, its riders with it) can be put on ``supports`` near ``xy``.
+
+    Per axis: when the load's centre of mass at ``xy`` is within ``margin`` of
+    the edge of where the object would meet its supports (or beyond it), the
+    object moves along that axis until the centre of mass is ``steady`` mm
+    inside (at most to the middle of the supports). Returns the x-y and how far
+    it moved (mm). Placements on the table, or partly on it, are not moved.
+    """
+    under = [s for s in supports if s != TABLE and s in model.bodies]
+    if not under or len(under) < len(supports):
+        return xy, 0.0
+    load = [name, *model.riders(name)]
+    mass = [_volume(model, n) for n in load]
+    b = model.bodies[name]
+    out = list(xy)
+    for k in range(2):
+        # The load's centre of mass relative to the object's centre: it moves with it.
+        c = sum(m * (model.bodies[n].position[k] - b.position[k])
+                for m, n in zip(mass, load, strict=True)) / sum(mass)
+        half = b.size[k] / 2
+        if not -half + margin <= c <= half - margin:
+            continue  # off the object's own footprint: moving the object cannot help
+        lo = min(model.bodies[s].position[k] - model.bodies[s].size[k] / 2 for s in under)
+        hi = max(model.bodies[s].position[k] + model.bodies[s].size[k] / 2 for s in under)
+        com = xy[k] + c
+        if lo + margin <= com <= hi - margin:
+            continue  # it stands where it was taught
+        inset = min(steady, (hi - lo) / 2)
+        out[k] = min(max(com, lo + inset), hi - inset) - c
+    moved = ((out[0] - xy[0]) ** 2 + (out[1] - xy[1]) ** 2) ** 0.5
+    return (out[0], out[1]), moved
 
 
 def _over(name: str, under: list[str], model: ExecModel, margin: float) -> bool:

@@ -46,8 +46,10 @@ JAW_AXES = {"x": 0, "y": 1}
 _TOP = {
     "arm_frame", "approach_height", "home", "skip_null_moves", "gripper", "release_clearance",
     "support_relations", "focus", "operations", "macros", "labels", "balance_margin",
+    "steady_margin",
 }
-_REQUIRED = _TOP - {"skip_null_moves", "release_clearance", "labels", "balance_margin"}
+_REQUIRED = _TOP - {"skip_null_moves", "release_clearance", "labels", "balance_margin",
+                    "steady_margin"}
 
 Expr = str | tuple[str, str]  # a name, or (xy-name, z-name) for {xy: P, z: Q}
 
@@ -124,6 +126,7 @@ class CommandRules:
     file: str = "<string>"
     labels: dict[str, str] = field(default_factory=dict)  # LABEL (upper case) -> operation
     balance_margin: float = 0.0  # see balance.py
+    steady_margin: float = 0.0  # see balance.steadied
 
     def operation_of(self, word: str) -> str:
         """The operation a plan leaf's label names (``NO`` -> ``NO-OP``)."""
@@ -233,6 +236,8 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
         labels=_labels(cx, doc, operations),
         balance_margin=(cx.number(doc, "balance_margin", "balance_margin")
                         if "balance_margin" in doc else 0.0),
+        steady_margin=(cx.number(doc, "steady_margin", "steady_margin")
+                       if "steady_margin" in doc else 0.0),
     )
 
 

@@ -12,7 +12,9 @@ expanded into commands by the Table IX rules:
   in world coordinates; a relative goal goes one step further: a sub-assembly
   built on an object that starts elsewhere still lands on it, while a support
   of ``table`` still means world coordinates. The vertical goal comes from the
-  sizes (top of the supports plus half the object), as the paper corrects it.
+  sizes (top of the supports plus half the object), as the paper corrects it;
+  a horizontal goal where the object and its riders could not stand on their
+  supports is moved until they can (balance.py ``steadied``).
 
 The model is updated by every emitted primitive and, when an operator's own
 leaves are done, by its SC⁻ / SC⁺ (Sec. VII-A 2c).
@@ -26,7 +28,7 @@ from typing import Any
 
 from ..errors import InputError, TaskFailed
 from . import jaws
-from .balance import unbalanced
+from .balance import steadied, unbalanced
 from .commandrules import CommandRules
 from .expander import Command, Context, Expander, fvec
 from .geometry import TABLE, Vec, overlap, top
@@ -48,6 +50,7 @@ class TracedOp:
     goal: Vec | None
     arm_goal: Vec | None = None
     commands: list[Command] = field(default_factory=list)
+    steadied: float = 0.0  # mm the placement was moved so its load stands (balance.py)
 
 
 @dataclass
@@ -132,9 +135,9 @@ def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
                          f"(known: {', '.join(sorted(rules.operations))})",
                          file=plan.file, where=where)
     focus = focus_object(op, rules, model)
-    goal = None
+    goal, moved = None, 0.0
     for source in rule.goal:
-        goal = _goal(source, op, focus, rules, model, plan.file, where)
+        goal, moved = _goal(source, op, focus, rules, model, plan.file, where)
         if goal is not None:
             break
     if goal is None and rule.goal:
@@ -151,7 +154,7 @@ def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
             grip = _grip_point(focus, goal, rule.check_jaws, rules, model)
     cmds = expander.run(rule.steps, Context(grip, width, where))
     arm_goal = rules.arm_frame.to_arm(grip) if grip is not None else None
-    return TracedOp(op.name, op.cls, leaf, operation, focus, goal, arm_goal, cmds)
+    return TracedOp(op.name, op.cls, leaf, operation, focus, goal, arm_goal, cmds, moved)
 
 
 def _grip_point(focus: str, goal: Vec, check: bool, rules: CommandRules,
@@ -189,22 +192,29 @@ def focus_object(op: Operator, rules: CommandRules, model: ExecModel) -> str | N
 
 
 def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
-          model: ExecModel, file: str, where: str) -> Vec | None:
-    """A goal from one source (commands.yaml ``goal``), or None if it does not apply."""
+          model: ExecModel, file: str, where: str) -> tuple[Vec | None, float]:
+    """A goal from one source (commands.yaml ``goal``), or None if it does not apply,
+    and how far a placement was moved so that its load stands."""
     if focus is None:
-        return None
+        return None, 0.0
     if source == "object":
-        return model.bodies[focus].position
+        return model.bodies[focus].position, 0.0
     rel = next((r for r in op.sc_plus
                 if r.subject == focus and r.type in rules.support_relations), None)
     if rel is None:
-        return None
-    return placement_goal(rel, focus, rules, model, file, where)
+        return None, 0.0
+    return _placement(rel, focus, rules, model, file, where)
 
 
 def placement_goal(rel: Relation, focus: str, rules: CommandRules, model: ExecModel,
                    file: str = "<plan>", where: str = "") -> Vec:
     """Where ``focus`` goes for a taught support relation, in the current model."""
+    return _placement(rel, focus, rules, model, file, where)[0]
+
+
+def _placement(rel: Relation, focus: str, rules: CommandRules, model: ExecModel,
+               file: str, where: str) -> tuple[Vec, float]:
+    """placement_goal, and how far the taught spot was moved so the load stands."""
     for s in [*rel.objects, *([rel.wrt] if rel.wrt else [])]:
         if s not in NOT_OBJECTS and s not in model.bodies:
             raise InputError(f"the relation names '{s}', which is not a plan object",
@@ -221,12 +231,16 @@ def placement_goal(rel: Relation, focus: str, rules: CommandRules, model: ExecMo
     else:
         raise InputError(f"the placement of '{focus}' on the table has no :at position",
                          file=file, where=where)
+    # A spot where the object and its riders would tip off their supports cannot be
+    # what the demonstration showed (that structure stood): its offset was measured
+    # wrong. Put the load where it stands, as near the taught spot as that allows.
+    xy, moved = steadied(model, focus, xy, supports, rules.balance_margin, rules.steady_margin)
     size = model.bodies[focus].size
     rest = model.settled(supports)  # supports rest on theirs, not at their release height
     base = max((top(rest[s], model.bodies[s].size) for s in supports), default=0.0)
     goal = (xy[0], xy[1], base + size[2] / 2 + rules.release_clearance)
     _check_free(goal, focus, model)
-    return goal
+    return goal, moved
 
 
 def _check_free(goal: Vec, focus: str, model: ExecModel) -> None:
@@ -264,6 +278,9 @@ def format_commands(tr: Trace, title: str = "") -> str:
         if op.goal is not None and op.goal != last_goal:
             lines.append(f" GOAL-POSITION {fvec(op.goal)}")
             lines.append(f" ARM GOAL POSITION {fvec(op.arm_goal)}")
+            if op.steadied:
+                lines.append(f" ; moved {op.steadied:.1f} mm from the taught spot so that "
+                             f"'{op.focus}' and its load stand on the supports")
             last_goal = op.goal
         lines.append(f" <{op.operation.lower()}>")
         lines.extend(f" {c.text()}" for c in op.commands)
