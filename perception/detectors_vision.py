@@ -17,8 +17,8 @@ import numpy as np
 from lbw_engine.detectors import ActView, Detection
 from lbw_engine.envmodel import EnvModel, EnvNode
 
-from .vfd import Region3D
-from .vfd_change import APPEARED, DISAPPEARED, NO_CHANGE, ChangeDetector
+from .vfd import BLOCK_MIN, HAND_BAND, Region3D, band, region_mask
+from .vfd_change import APPEARED, DISAPPEARED, NO_CHANGE, ChangeDetector, Snapshot
 from .vfd_coplanar import CoplanarDetector
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -28,6 +28,10 @@ PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, a
 PICK_MARGIN_MM = 8.0
 HOLDING, EMPTY = 0.6, 0.1  # block fraction of the holder window: an object held / none
 # (a grasped block fills it, 0.9-1; after a touch a block below can show in it, ~0.3)
+# A view sees a picked target plainly if other objects' and the hand's images cover at most
+# this share of its outline there; it then still sees the target where it was if this share
+# of its outline is block-bright in both snapshots (the holder window cannot overrule that).
+PLAIN_VIEW, KEPT = 0.2, 0.5
 CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for CoplDet)
 MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
 
@@ -98,7 +102,8 @@ class ChangeNode:
         det, shot = self.detector, first["shot"]
         det.attention(shot.region)
         det.area_threshold = self.threshold(shot.region, first["size"])
-        result = det.judge(shot, det.take(self.eyes.frame))
+        last = det.take(self.eyes.frame)
+        result = det.judge(shot, last)
         pos = det.target()
         if result == NO_CHANGE:
             # The region may be hidden at the end (the palm above it in the top view, a block
@@ -110,7 +115,8 @@ class ChangeNode:
             before, after = first["hold"], self.eyes.tracker.holding_evidence
             if act.special and before >= HOLDING and after <= EMPTY:
                 result = APPEARED
-            elif not act.special and before <= EMPTY and after >= HOLDING:
+            elif (not act.special and before <= EMPTY and after >= HOLDING
+                  and not self.still_there(act, env, shot, last)):
                 result = DISAPPEARED
         if result == APPEARED and self.eyes.release is not None:
             # The side camera looks along +y: it fixes x (and z) of the changed area well but
@@ -121,6 +127,37 @@ class ChangeNode:
             pos = np.array([x, rel[1], z])
         return Detection(value=SIL_DIFF[result],
                          position=tuple(float(c) for c in pos) if pos is not None else None)
+
+    def still_there(self, act: ActView, env: EnvModel, first: Snapshot, last: Snapshot) -> bool:
+        """Whether a view that sees the target plainly shows it unmoved in both snapshots.
+
+        With the hand high above a touched block, the holder window between the fingers
+        looks down on the block and can read "holding" (more so with tremor); the side view
+        then still shows the block in place, with nothing else projecting onto it. A view
+        in which another object lies on the target's line of sight (a block behind it, a
+        support below it) or the hand covers it proves nothing: a block there looks the same
+        whether the target left or not.
+        """
+        targets = [n for n in env.get(act.target) if n.kind == "Loc" and n.position is not None
+                   and n.size is not None]
+        names = {n.name for n in targets} | set(env.held())
+        others = [n for n in env.objects() if n.name not in names and n.position is not None
+                  and n.size is not None]
+        for view, (window,) in self.detector.windows.items():
+            cam = self.eyes.cameras[view]
+            a, b = first.pixels[view], last.pixels[view]
+            outline = np.zeros(a.shape, bool)
+            for n in targets:
+                outline |= region_mask(cam, box(n), window)
+            cover = band(a, *HAND_BAND) | band(b, *HAND_BAND)
+            for n in others:
+                cover |= region_mask(cam, box(n), window)
+            area = int(outline.sum())
+            if area == 0 or (cover & outline).sum() > PLAIN_VIEW * area:
+                continue
+            if ((a >= BLOCK_MIN) & (b >= BLOCK_MIN) & outline).sum() >= KEPT * area:
+                return True
+        return False
 
     def threshold(self, region: Region3D, size: Sequence[float]) -> float:
         """Area fraction that counts as a change: a third of the object's share of the window."""

@@ -130,3 +130,18 @@ def test_visual_search_under_the_hand_relies_on_the_side_view():
     r = visual_search(SilFinder(CAMS, res), frame, (T[0], T[1], 90))
     assert r.found and r.stereo is False and r.cycles == 1
     assert dist(r.position[:2], T) < 10 and 0 < r.position[2] < 50
+
+
+@pytest.mark.parametrize("noise", [8.0, 16.0], ids=["4x", "8x"])
+@pytest.mark.parametrize("make,region,expected", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_change_detector_holds_at_high_pixel_noise(make, region, expected, noise):
+    """Gray-level noise flips pixels across the dark/object cut (40 levels above the table)
+    both ways, so the net changed area stays near zero: 4x and 8x noise change no result."""
+    start, end = make()
+    for seed in range(3):
+        film = Film(noise=noise, seed=seed)
+        cd = ChangeDetector(CAMS, VisionResources())
+        cd.attention(region)
+        cd.snapshot(film.shoot(OTHERS + start))
+        assert cd.compare(film.shoot(OTHERS + end)) == expected
+        assert max(cd.changed_fraction.values()) < 0.02 or expected != "nochange"
