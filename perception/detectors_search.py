@@ -27,6 +27,18 @@ SUPPORT_TOLERANCE_MM = 8.0  # the held block's centre may lie this far off its s
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
 
 
+def held_here(eyes: Eyes, env: EnvModel) -> tuple[EnvNode, Region3D] | None:
+    """The held object and its box under the hand, the hand's x checked by the palm.
+
+    A finger window clamped at the palm puts the tracker's point 25-35 mm beside a wide
+    grasp (docs/seeing.md); where the held block is decides what lies below it.
+    """
+    held = held_box(eyes, env)
+    if held is None or eyes.spot is None:
+        return held
+    return held[0], box(held[0], eyes.spot + eyes.spot_grip)
+
+
 class SearchNode:
     """:Near through the sil-finder: stepped regions below the hand (Sec. III-E, Fig. 6)."""
 
@@ -41,7 +53,7 @@ class SearchNode:
     def regions(self, env: EnvModel) -> tuple[list[Region3D], set[str]]:
         """The search regions, top to bottom, and the names never to report (held, riders)."""
         eyes = self.eyes
-        held = held_box(eyes, env)
+        held = held_here(eyes, env)
         if held is None:
             start = Region3D.around(eyes.hand, self.default)
             skip: set[str] = set()
@@ -67,7 +79,7 @@ class SearchNode:
         if self.eyes.hand is None:
             return ()
         regions, skip = self.regions(env)
-        held = held_box(self.eyes, env)
+        held = held_here(self.eyes, env)
         # The held block hangs over the searched place in both views: leave its outline out
         # (grown by 2 mm, for the tremor) so only what lies below it can be found.
         exclude = [] if held is None else [
@@ -107,10 +119,12 @@ class SearchNode:
 
     def confirm(self, region: Region3D, env: EnvModel, skip: set[str],
                 held: Region3D | None) -> tuple[str, ...]:
-        """Loc nodes the found region meets (Sec. III-E step 3); the topmost set only.
+        """Loc nodes the found region meets (Sec. III-E step 3): one level of them only.
 
         With an object in the hand, blocks count as its supports only if its centre is
-        over them (their joint footprint): a block beside the spot is not under it.
+        over them (their joint footprint): a block beside the spot is not under it. Such
+        a block may stand higher than the spot's supports and graze the held footprint
+        (a pyramid's upper cube beside the next place): the levels below it are tried.
         """
         hits = [n for n in env.nodes_intersecting(region.center, region.size)
                 if n.name not in skip]
@@ -118,11 +132,12 @@ class SearchNode:
             return ()
         if held is None:
             return self.grasped(hits, env)
-        top = max(n.top() for n in hits)
-        hits = [n for n in hits if n.top() >= top - TOP_TOLERANCE_MM]
-        if held is not None:
-            lo = np.min([box(n).lo for n in hits], axis=0)[:2] - SUPPORT_TOLERANCE_MM
-            hi = np.max([box(n).hi for n in hits], axis=0)[:2] + SUPPORT_TOLERANCE_MM
-            if not (np.all(held.center[:2] >= lo) and np.all(held.center[:2] <= hi)):
-                return ()
-        return tuple(n.name for n in hits)
+        while hits:
+            top = max(n.top() for n in hits)
+            level = [n for n in hits if n.top() >= top - TOP_TOLERANCE_MM]
+            lo = np.min([box(n).lo for n in level], axis=0)[:2] - SUPPORT_TOLERANCE_MM
+            hi = np.max([box(n).hi for n in level], axis=0)[:2] + SUPPORT_TOLERANCE_MM
+            if np.all(held.center[:2] >= lo) and np.all(held.center[:2] <= hi):
+                return tuple(n.name for n in level)
+            hits = [n for n in hits if n not in level]
+        return ()

@@ -34,7 +34,7 @@ from lbw_engine.rules import RuleSet
 from .camera import WORKSPACE_HI, WORKSPACE_LO, Camera
 from .detectors_search import SearchNode
 from .detectors_vision import ChangeNode, CoplanarNode, box, held_box
-from .envnodes_hand import HandPath, footprint, median3
+from .envnodes_hand import HandPath, PalmCheck, footprint, median3
 from .frames import Frame
 from .vfd import Region3D
 from .vfd_hand import HandTracker
@@ -98,11 +98,15 @@ class Eyes:
             rules.constants["attention-region"][2])
         self.work = footprint([])  # footprint of this LocalMotion's target
         self.raw: deque[np.ndarray] = deque(maxlen=3)  # last tracker positions (median of 3)
+        self.palm_check = PalmCheck()  # hand x against the stereo palm
+        self.checked: deque[np.ndarray] = deque(maxlen=3)  # the same, x checked by the palm
+        self.spot: np.ndarray | None = None  # hand position for where things are (docs)
         self.joined_at: float | None = None  # hand height at the last :Join
         self.release: np.ndarray | None = None  # hand position at the last :Split
         self.t_far = -np.inf  # when :Far last fired (a Transfer began)
         self.released: Region3D | None = None  # box of the block let go at the last :Split
         self.grip = np.zeros(3)  # held block centre minus hand, measured at the grasp
+        self.spot_grip = np.zeros(3)  # the same from ``spot``
         self.pixels: list[int] = []  # pixels read per frame (benchmark)
         self.search = SearchNode(self)
         self.change = ChangeNode(self)
@@ -132,12 +136,19 @@ class Eyes:
         if self.settled == 1:
             self.path.clear()
             self.raw.clear()
+            self.checked.clear()
+            self.palm_check.reset()
         if self.tracker.tracking and self.tracker.position is not None:
             # A finger window may snap to a neighbouring edge for a frame (z jumps of a few
             # cm beside carried blocks); the median of three drops such single-frame jumps.
             self.raw.append(self.tracker.position)
+            self.checked.append(self.palm_check(self.tracker))
             self.t_seen = t
             self.hand = median3(self.raw)
+            # Where a held block hangs or was let go: x from the palm when the finger
+            # windows disagree with it (envnodes_hand.PalmCheck). The path, the speeds and
+            # heights keep the tracker's own point: a switch between the two is a jump.
+            self.spot = median3(self.checked)
             self.path.add(t, self.hand)
             self.velocity = self.path.velocity
             if self.low is not None:
@@ -238,6 +249,7 @@ class Eyes:
             locs = [n for n in target if n.kind == "Loc" and n.position is not None]
             if not env.held() and len(locs) == 1:  # where a grasp would hold it
                 self.grip = np.asarray(locs[0].position, float) - self.hand
+                self.spot_grip = np.asarray(locs[0].position, float) - self.spot
             return self.hand_detection()
         return None
 
@@ -260,7 +272,7 @@ class Eyes:
             return None
         if self.hand[2] - self.joined_at > SPLIT_MM:
             joined, self.joined_at = self.joined_at, None
-            self.release = self.hand.copy()
+            self.release = self.spot.copy()
             held = held_box(self, env)
             if held is not None:  # the block stays where it was let go, the hand's rise below
                 self.released = held[1].shifted(dz=-(float(self.hand[2]) - joined))

@@ -17,6 +17,8 @@ import numpy as np
 
 HISTORY_S = 1.5  # s of speeds kept to find where the current motion started
 ONSET_FRACTION = 0.25  # the onset fit uses the speeds above this share of the current one
+PALM_AGREE_MM = 12.0  # the fingers' midpoint and the stereo palm agree within this in x
+PALM_FRAMES = 3  # ... unless they disagree on this many frames in a row
 
 
 class HandPath:
@@ -117,3 +119,41 @@ def median3(points: Sequence[np.ndarray]) -> np.ndarray:
         a, b, c = points
         return np.maximum(np.minimum(a, b), np.minimum(np.maximum(a, b), c))
     return points[0] if len(points) == 1 else (points[0] + points[1]) / 2.0
+
+
+
+class PalmCheck:
+    """The tracker's hand position, its x checked against the stereo palm.
+
+    The tracker takes x midway between its two finger windows. A finger window that
+    lost its finger stays clamped at the palm's side and still looks like a finger;
+    the midpoint is then up to half a finger span off (wide grasps: a plank, fingers
+    opening at a release; 25-35 mm, seeds 1028 and 1064), for as long as the window
+    stays there. The palm sits over the fingers' midpoint, so when the palm seen in
+    both views has been more than ``PALM_AGREE_MM`` away in x for ``PALM_FRAMES``
+    frames in a row, x comes from the palm. A shorter disagreement is the palm's
+    own: its window just after the tracker was re-placed or lost the hand a moment.
+    """
+
+    def __init__(self) -> None:
+        """No disagreement seen yet."""
+        self.frames = 0
+
+    def reset(self) -> None:
+        """The tracker was (re)placed: its windows start afresh."""
+        self.frames = 0
+
+    def __call__(self, tracker) -> np.ndarray | None:
+        """The hand position of this frame (call once per frame)."""
+        pos = tracker.position
+        if pos is None:
+            return None
+        top, side = tracker.palm["top"].feature, tracker.palm["side"].feature
+        if top is None or side is None:
+            self.frames = 0
+            return pos
+        palm_x = float(tracker.triangulate(top, side)[0])
+        self.frames = self.frames + 1 if abs(float(pos[0]) - palm_x) > PALM_AGREE_MM else 0
+        if self.frames < PALM_FRAMES:
+            return pos
+        return np.array([palm_x, float(pos[1]), float(pos[2])])

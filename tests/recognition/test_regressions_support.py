@@ -1,0 +1,46 @@
+"""Generated places whose target (a block or the table) was misread at :Near (`lbw bench`).
+
+Each case is one bench scenario (perception.generator) where a PLACE-ON-BLOCK was
+read as PLACE-ON-TABLE or the other way round, because of what the guided search
+below the held block (Sec. III-E) confirmed against the environment model. Now
+the sequence must equal the demonstrator's and every moved object must end on
+the objects it really rests on.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from lbw_engine.actions import to_actions
+from lbw_engine.rules import load_rules
+from perception.camera import default_cameras
+from perception.envnodes_adapters import watch_frames
+from perception.generator import generate
+from perception.groundtruth import expected_operations
+from perception.stream import demonstration_frames, teach_names
+
+CASES = {
+    # the tracked hand 35 mm off a held plank's grasp (a finger window clamped at the
+    # palm): the loaded plank's centre seemed off the pillar, read as a place on the table
+    "seed1064-2x-plank-hand-x": (1064, "2x"),
+    # the same error while the fingers opened: the pillar recorded 24 mm from where it
+    # was let go, so the plank put on it later seemed to come down beside it
+    "seed1028-2x-release-x": (1028, "2x"),
+    # a pyramid's upper cube beside the spot grazed the held cube's footprint and hid
+    # the two cubes under it (only the topmost level was tried): read as the table
+    "seed1031-2x-upper-cube-beside": (1031, "2x"),
+}
+
+
+@pytest.mark.parametrize(("seed", "level"), list(CASES.values()), ids=list(CASES))
+def test_place_target_recognized(seed, level):
+    sc = generate(seed, level).scenario()
+    cams = default_cameras()
+    rec, _ = watch_frames(demonstration_frames(sc, cams), cams, sc.shapes, load_rules(),
+                          teach_names(sc))
+    ops = [op["operation"] for op in to_actions(rec)["operations"]]
+    assert ops == expected_operations(sc)
+    final = sc.states[-1]
+    moved = {step.obj for step in sc.demonstration if step.kind in ("pick", "place")}
+    recognized = {name: set(rec.env.supports_of(name)) for name in moved}
+    assert recognized == {name: set(final.support[name]) for name in moved}
