@@ -171,3 +171,14 @@ def test_detectors_take_all_their_windows_or_none(make, need):
     assert res.in_use == MAX_WINDOWS
     det.free()
     assert res.in_use == MAX_WINDOWS - need
+
+
+@pytest.mark.parametrize("noise", [2.0, 8.0])
+def test_motion_detector_measures_the_sensor_noise_of_unclipped_pixels(noise):
+    film, res = Film(noise=noise, seed=1), VisionResources()
+    md = MotionDetector(CAMS, res)
+    md.start()
+    for k in range(60):  # a hand moving through: its pixels are a minority
+        md.update(film.shoot(BLOCKS + hand(*_path(k % 30))))
+    # std of one pixel's change between two buffers: sqrt(2) x the pixel noise
+    assert md.sensor_noise == pytest.approx(noise * np.sqrt(2.0), rel=0.25)
