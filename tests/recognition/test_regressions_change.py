@@ -9,22 +9,12 @@ the touch must stay a NO-OP (it was a PICK, and the block then counted as held).
 
 from __future__ import annotations
 
-from lbw_engine.actions import to_actions
-from lbw_engine.rules import load_rules
-from perception.camera import default_cameras
-from perception.envnodes_adapters import watch_frames
-from perception.generator import generate
-from perception.groundtruth import expected_operations
-from perception.stream import demonstration_frames, teach_names
+from .generated import assert_sequence, watch_generated
 
 
 def test_touch_seen_in_place_by_the_side_view_is_not_a_pick():
-    sc = generate(1077, "4x").scenario()
-    cams = default_cameras()
-    rec, _ = watch_frames(demonstration_frames(sc, cams), cams, sc.shapes, load_rules(),
-                          teach_names(sc))
-    ops = [op["operation"] for op in to_actions(rec)["operations"]]
-    assert ops == expected_operations(sc)
+    sc, rec, actions = watch_generated(1077, "4x")
+    assert_sequence(sc, actions)
     touched = {step.obj for step in sc.demonstration if step.kind == "touch"}
     assert touched and not touched & set(rec.env.held())
     for name in touched:  # a touched block stays on what it stood on
@@ -37,12 +27,8 @@ def test_a_loaded_plank_is_placed_where_the_hand_let_it_go_not_at_the_changed_ar
     # only the plank's right part, and their centre put the plank 40 mm beside the
     # pillar's centre (the robot later set it there, and it tipped). The release point
     # explains the end image better and must win.
-    sc = generate(1073, "2x").scenario()
-    cams = default_cameras()
-    rec, _ = watch_frames(demonstration_frames(sc, cams), cams, sc.shapes, load_rules(),
-                          teach_names(sc))
-    actions = to_actions(rec)
-    assert [op["operation"] for op in actions["operations"]] == expected_operations(sc)
+    sc, _, actions = watch_generated(1073, "2x")
+    assert_sequence(sc, actions)
     ats = [r[3]["at"] for op in actions["operations"] for r in op["final_state"]["relations"]
            if r[:3] == ["on", "inv2-plank", "inv2-pillar"]]
     at = ats[-1]

@@ -11,13 +11,7 @@ from __future__ import annotations
 
 import pytest
 
-from lbw_engine.actions import to_actions
-from lbw_engine.rules import load_rules
-from perception.camera import default_cameras
-from perception.envnodes_adapters import watch_frames
-from perception.generator import generate
-from perception.groundtruth import expected_operations
-from perception.stream import demonstration_frames, teach_names
+from .generated import assert_sequence, assert_supports, watch_generated
 
 CASES = {
     # the tracked hand 35 mm off a held plank's grasp (a finger window clamped at the
@@ -34,13 +28,6 @@ CASES = {
 
 @pytest.mark.parametrize(("seed", "level"), list(CASES.values()), ids=list(CASES))
 def test_place_target_recognized(seed, level):
-    sc = generate(seed, level).scenario()
-    cams = default_cameras()
-    rec, _ = watch_frames(demonstration_frames(sc, cams), cams, sc.shapes, load_rules(),
-                          teach_names(sc))
-    ops = [op["operation"] for op in to_actions(rec)["operations"]]
-    assert ops == expected_operations(sc)
-    final = sc.states[-1]
-    moved = {step.obj for step in sc.demonstration if step.kind in ("pick", "place")}
-    recognized = {name: set(rec.env.supports_of(name)) for name in moved}
-    assert recognized == {name: set(final.support[name]) for name in moved}
+    sc, rec, actions = watch_generated(seed, level)
+    assert_sequence(sc, actions)
+    assert_supports(sc, rec)

@@ -13,16 +13,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lbw_engine.actions import to_actions
-from lbw_engine.rules import load_rules
 from perception.camera import default_cameras
 from perception.demonstrator import Demonstration
-from perception.envnodes_adapters import watch_frames
 from perception.generator import generate
-from perception.groundtruth import expected_operations
-from perception.stream import demonstration_frames, teach_names
+from perception.stream import demonstration_frames
 from perception.vfd_motion import MotionDetector
 from perception.vfd_resources import VisionResources
+
+from .generated import assert_sequence, watch_generated
 
 CASES = {
     # lost at 43 s while lowering a held block: the place ended the task
@@ -36,12 +34,8 @@ CASES = {
 
 @pytest.mark.parametrize("seed", list(CASES.values()), ids=list(CASES))
 def test_hand_kept_through_the_whole_4x_demonstration(seed):
-    sc = generate(seed, "4x").scenario()
-    cams = default_cameras()
-    rec, _ = watch_frames(demonstration_frames(sc, cams), cams, sc.shapes, load_rules(),
-                          teach_names(sc))
-    ops = [op["operation"] for op in to_actions(rec)["operations"]]
-    assert ops == expected_operations(sc)
+    sc, _, actions = watch_generated(seed, "4x")
+    assert_sequence(sc, actions)
 
 
 def test_motion_points_stay_on_the_hand_at_4x_noise():

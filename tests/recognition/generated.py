@@ -1,0 +1,39 @@
+"""Watching a bench scenario (perception.generator) and checking it against the ground truth.
+
+Shared by the regression files of this folder: each names the seeds (and noise
+levels) of `lbw bench` that once failed and the cause that was fixed.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from lbw_engine.actions import to_actions
+from lbw_engine.rules import load_rules
+from perception.camera import default_cameras
+from perception.envnodes_adapters import watch_frames
+from perception.generator import generate
+from perception.groundtruth import expected_operations
+from perception.stream import demonstration_frames, teach_names
+
+
+def watch_generated(seed: int, level: str = "nominal") -> tuple[Any, Any, dict[str, Any]]:
+    """(scenario, recognizer, actions.json content) of one generated demonstration."""
+    sc = generate(seed, level).scenario()
+    cams = default_cameras()
+    rec, _ = watch_frames(demonstration_frames(sc, cams), cams, sc.shapes, load_rules(),
+                          teach_names(sc))
+    return sc, rec, to_actions(rec)
+
+
+def assert_sequence(sc: Any, actions: dict[str, Any]) -> None:
+    """The recognized top-level sequence is the demonstrator's."""
+    assert [op["operation"] for op in actions["operations"]] == expected_operations(sc)
+
+
+def assert_supports(sc: Any, rec: Any) -> None:
+    """Every moved object ends, in the env model, on what it really rests on."""
+    final = sc.states[-1]
+    moved = {step.obj for step in sc.demonstration if step.kind in ("pick", "place")}
+    recognized = {name: set(rec.env.supports_of(name)) for name in moved}
+    assert recognized == {name: set(final.support[name]) for name in moved}
