@@ -121,7 +121,6 @@ def median3(points: Sequence[np.ndarray]) -> np.ndarray:
     return points[0] if len(points) == 1 else (points[0] + points[1]) / 2.0
 
 
-
 class PalmCheck:
     """The tracker's hand position, its x checked against the stereo palm.
 

@@ -18,6 +18,8 @@ meets its supports.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from .geometry import TABLE
 from .model import ExecModel
 
@@ -28,10 +30,8 @@ def unbalanced(model: ExecModel, margin: float) -> str | None:
         rel = model.support_of(name)
         if rel is None or model.held == name:
             continue
-        under = [s for s in rel[2] if s != TABLE and s in model.bodies]
-        if not under or len(under) < len(rel[2]):
-            continue  # on the table (alone or in part): the table holds it
-        if not _over(name, under, model, margin):
+        under = _raised(model, rel[2])
+        if under and not _over(name, under, model, margin):
             return name
     return None
 
@@ -46,44 +46,55 @@ def steadied(model: ExecModel, name: str, xy: tuple[float, float], supports: lis
     inside (at most to the middle of the supports). Returns the x-y and how far
     it moved (mm). Placements on the table, or partly on it, are not moved.
     """
-    under = [s for s in supports if s != TABLE and s in model.bodies]
-    if not under or len(under) < len(supports):
+    under = _raised(model, supports)
+    if not under:
         return xy, 0.0
-    load = [name, *model.riders(name)]
-    mass = [_volume(model, n) for n in load]
     b = model.bodies[name]
+    com = _load_centre(model, name)
     out = list(xy)
     for k in range(2):
-        # The load's centre of mass relative to the object's centre: it moves with it.
-        c = sum(m * (model.bodies[n].position[k] - b.position[k])
-                for m, n in zip(mass, load, strict=True)) / sum(mass)
+        c = com[k] - b.position[k]  # relative to the object's centre: it moves with it
         half = b.size[k] / 2
         if not -half + margin <= c <= half - margin:
             continue  # off the object's own footprint: moving the object cannot help
-        lo = min(model.bodies[s].position[k] - model.bodies[s].size[k] / 2 for s in under)
-        hi = max(model.bodies[s].position[k] + model.bodies[s].size[k] / 2 for s in under)
-        com = xy[k] + c
-        if lo + margin <= com <= hi - margin:
+        lo, hi = _span(model, under, k)
+        if lo + margin <= xy[k] + c <= hi - margin:
             continue  # it stands where it was taught
         inset = min(steady, (hi - lo) / 2)
-        out[k] = min(max(com, lo + inset), hi - inset) - c
+        out[k] = min(max(xy[k] + c, lo + inset), hi - inset) - c
     moved = ((out[0] - xy[0]) ** 2 + (out[1] - xy[1]) ** 2) ** 0.5
     return (out[0], out[1]), moved
 
 
-def _over(name: str, under: list[str], model: ExecModel, margin: float) -> bool:
-    """Is the load's centre of mass over where ``name`` meets ``under``?"""
+def _raised(model: ExecModel, supports: Sequence[str]) -> list[str]:
+    """The supports, when all of them are objects; [] when the table holds any part."""
+    under = [s for s in supports if s != TABLE and s in model.bodies]
+    return under if under and len(under) == len(supports) else []
+
+
+def _load_centre(model: ExecModel, name: str) -> tuple[float, float]:
+    """x-y centre of mass of ``name`` and everything riding on it."""
     load = [name, *model.riders(name)]
     mass = [_volume(model, n) for n in load]
     total = sum(mass)
+    return tuple(sum(m * model.bodies[n].position[k] for m, n in zip(mass, load, strict=True))
+                 / total for k in range(2))
+
+
+def _span(model: ExecModel, names: Sequence[str], k: int) -> tuple[float, float]:
+    """Joint extent of the objects ``names`` along axis ``k``."""
+    return (min(model.bodies[s].position[k] - model.bodies[s].size[k] / 2 for s in names),
+            max(model.bodies[s].position[k] + model.bodies[s].size[k] / 2 for s in names))
+
+
+def _over(name: str, under: list[str], model: ExecModel, margin: float) -> bool:
+    """Is the load's centre of mass over where ``name`` meets ``under``?"""
     b = model.bodies[name]
+    com = _load_centre(model, name)
     for k in range(2):
-        com = sum(m * model.bodies[n].position[k] for m, n in zip(mass, load, strict=True)) / total
-        lo = max(b.position[k] - b.size[k] / 2,
-                 min(model.bodies[s].position[k] - model.bodies[s].size[k] / 2 for s in under))
-        hi = min(b.position[k] + b.size[k] / 2,
-                 max(model.bodies[s].position[k] + model.bodies[s].size[k] / 2 for s in under))
-        if not lo + margin <= com <= hi - margin:
+        lo, hi = _span(model, under, k)
+        lo, hi = max(b.position[k] - b.size[k] / 2, lo), min(b.position[k] + b.size[k] / 2, hi)
+        if not lo + margin <= com[k] <= hi - margin:
             return False
     return True
 
