@@ -149,7 +149,7 @@ def synthetic_task(achieves: int) -> dict[str, Any]:
 
 def run_once(achieves: int) -> dict[str, float]:
     """Analyse one synthetic task; return the timings in seconds."""
-    from lbw_engine.analysis import RelationTable, analyze, load_rules, parse_actions
+    from lbw_engine.understand import RelationTable, analyze, load_rules, parse_actions
 
     rules = load_rules()
     doc = synthetic_task(achieves)

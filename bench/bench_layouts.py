@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 import yaml
 
-from lbw_engine.execution import commandrules
-from lbw_engine.execution import plan as planmod
+from lbw_engine.do import plan as planmod
 from lbw_engine.paths import bundled_scenario, default_rules_dir
+from lbw_engine.rules import commands as commandrules
 from lbw_engine.yamlio import load_file
 
 SCENARIOS = ("build-table", "inverted-arch")
@@ -38,7 +38,7 @@ def random_layout(scenario: Any, seed: int) -> dict[str, dict[str, Any]]:
     Spots come from the scenario generator's ``free_spot``, whose margins leave
     room for the gripper's fingers beside every box.
     """
-    from perception.generator import footprint, free_spot
+    from perception.world.generator import footprint, free_spot
 
     rng = np.random.default_rng(seed)
     final = scenario.states[-1]
@@ -56,7 +56,7 @@ def random_layout(scenario: Any, seed: int) -> dict[str, dict[str, Any]]:
 
 def with_layout(path: Any, layout: dict[str, dict[str, Any]], seed: int) -> Any:
     """The scenario at ``path`` with ``layout`` as its execute workspace."""
-    from perception.scenario import load_text
+    from perception.world.scenario import load_text
 
     doc = _plain(load_file(path))
     doc["execute"] = {"objects": layout}
@@ -68,7 +68,7 @@ def sweep(name: str, count: int, first_seed: int = 1) -> dict[str, Any]:
     """Learn ``name``'s plan by watching, then execute it in ``count`` random layouts."""
     from lbw_engine.cli.execute import execute_plan
     from lbw_engine.cli.run import pipeline
-    from perception.scenario import load
+    from perception.world.scenario import load
 
     path = bundled_scenario(name)
     learned = pipeline(load(path))

@@ -1,6 +1,6 @@
 """Object-finder on generated workspaces: misses, phantoms, wrong shapes, position errors.
 
-Each generated scenario (perception.generator) has a teach and an execute
+Each generated scenario (perception.world.generator) has a teach and an execute
 workspace; both initial states are built in the simulated world, settled,
 rendered at the scenario's pixel noise and handed to the object-finder
 (Sec. III-B, Sec. VII-A). Found objects are matched to the true boxes
@@ -17,14 +17,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from perception.camera import default_cameras
-from perception.frames import Frame
-from perception.generator import LEVELS, generate
-from perception.render import Renderer
-from perception.scenario import ObjectSpec
-from perception.vfd_objects import ObjectFinder
-from perception.vfd_resources import VisionResources
-from perception.world import World
+from perception.vision.camera import default_cameras
+from perception.vision.frames import Frame
+from perception.vision.vfd.objects import ObjectFinder
+from perception.vision.vfd.resources import VisionResources
+from perception.world.generator import LEVELS, generate
+from perception.world.physics import World
+from perception.world.render import Renderer
+from perception.world.scenario import ObjectSpec
 
 MATCH_MM = 25.0  # a found centre farther than this from every true box is a phantom
 
@@ -57,7 +57,7 @@ def truth_and_frame(seed: int, level: str, which: str) -> tuple[list, dict, Fram
     if which.startswith("layout-"):  # bench_layouts' random execute workspaces
         from bench.bench_layouts import random_layout, with_layout
         from lbw_engine.paths import bundled_scenario
-        from perception.scenario import load
+        from perception.world.scenario import load
 
         path = bundled_scenario(which.removeprefix("layout-"))
         sc = with_layout(path, random_layout(load(path), seed), seed)

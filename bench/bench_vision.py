@@ -6,17 +6,17 @@ import time
 
 import numpy as np
 
-from perception.camera import default_cameras
-from perception.frames import Frame
-from perception.render import Renderer
-from perception.scene import Box
-from perception.vfd import Region3D
-from perception.vfd_change import ChangeDetector
-from perception.vfd_hand import HandTracker
-from perception.vfd_motion import MotionDetector
-from perception.vfd_objects import ObjectFinder
-from perception.vfd_resources import VisionResources
-from perception.vfd_search import SilFinder, visual_search
+from perception.vision.camera import default_cameras
+from perception.vision.frames import Frame
+from perception.vision.vfd.base import Region3D
+from perception.vision.vfd.change import ChangeDetector
+from perception.vision.vfd.hand import HandTracker
+from perception.vision.vfd.motion import MotionDetector
+from perception.vision.vfd.objects import ObjectFinder
+from perception.vision.vfd.resources import VisionResources
+from perception.vision.vfd.search import SilFinder, visual_search
+from perception.world.render import Renderer
+from perception.world.scene import Box
 
 FPS = 30.0
 
@@ -32,7 +32,7 @@ def build_table_scene(k: int, rng: np.random.Generator) -> list[Box]:
     x = float(-200 + 400 * s + rng.normal(0, 1.0))
     y = float(150 + 100 * np.sin(2 * np.pi * s) + rng.normal(0, 1.0))
     z = float(90 + 60 * np.cos(2 * np.pi * s) + rng.normal(0, 1.0))
-    # The gripper of perception.hand: grip centre (x, y, z), fingertips 10 mm below it.
+    # The gripper of perception.world.hand: grip centre (x, y, z), fingertips 10 mm below it.
     hand = [Box("hand", (x, y, z + 55), (50, 50, 30)),
             Box("hand", (x - 35, y, z + 15), (10, 20, 50)),
             Box("hand", (x + 35, y, z + 15), (10, 20, 50))]
@@ -125,8 +125,8 @@ def bench_demonstration(name: str = "build-table") -> dict:
     """Motion-detector + hand-tracker on a bundled demonstration, against the true hand."""
     from pathlib import Path
 
-    from perception.demonstrator import Demonstration
-    from perception.scenario import load
+    from perception.world.demonstrator import Demonstration
+    from perception.world.scenario import load
 
     sc = load(Path(__file__).resolve().parent.parent / "scenarios" / f"{name}.yaml")
     cams = default_cameras()
@@ -150,7 +150,7 @@ def bench_demonstration(name: str = "build-table") -> dict:
             untracked += 1
         elif settle > 0:
             settle -= 1
-        else:  # the grip centre lies 55 mm below the palm centre (perception.hand)
+        else:  # the grip centre lies 55 mm below the palm centre (perception.world.hand)
             errors.append(float(np.linalg.norm(ht.position - np.subtract(palm[0].center,
                                                                            (0, 0, 55)))))
     return {f"demo_{name}_hand_error_mm_median": float(np.median(errors)),

@@ -67,10 +67,10 @@ def _child(arg: str) -> dict:
 def real_time(name: str = "build-table") -> dict:
     """End-to-end and recognizer-only real-time factors, and the pixel fraction."""
     from lbw_engine.rules import load_rules
-    from perception.camera import default_cameras
-    from perception.envnodes_adapters import watch_frames
-    from perception.scenario import load
-    from perception.stream import demonstration_frames, teach_names
+    from perception.vision.camera import default_cameras
+    from perception.vision.envnodes.adapters import watch_frames
+    from perception.world.scenario import load
+    from perception.world.stream import demonstration_frames, teach_names
 
     sc = load(ROOT / "scenarios" / f"{name}.yaml")
     cams = default_cameras()

@@ -13,10 +13,10 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from perception.camera import default_cameras
-from perception.demonstrator import Demonstration
-from perception.render import Renderer
-from perception.scenario import load
+from perception.vision.camera import default_cameras
+from perception.world.demonstrator import Demonstration
+from perception.world.render import Renderer
+from perception.world.scenario import load
 
 SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"
 

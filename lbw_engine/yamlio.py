@@ -18,7 +18,7 @@ from typing import Any
 
 import yaml
 
-from .errors import InputError, read_input
+from lbw_engine.errors import InputError, read_input
 
 
 class LocDict(dict):

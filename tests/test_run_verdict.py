@@ -7,8 +7,8 @@ from pathlib import Path
 
 from lbw_engine.cli import main
 from lbw_engine.cli import run as runmod
-from perception.groundtruth import expected_operations
-from perception.scenario import load
+from perception.world.groundtruth import expected_operations
+from perception.world.scenario import load
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENARIO = ROOT / "scenarios" / "place-and-align.yaml"

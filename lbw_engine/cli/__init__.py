@@ -20,7 +20,7 @@ import importlib
 import sys
 from collections.abc import Sequence
 
-from ..errors import LbwError
+from lbw_engine.errors import LbwError
 
 # name -> module (relative to this package). Keep sorted by pipeline order.
 SUBCOMMANDS: dict[str, str] = {

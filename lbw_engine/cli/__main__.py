@@ -1,5 +1,5 @@
 import sys
 
-from . import main
+from lbw_engine.cli import main
 
 sys.exit(main())

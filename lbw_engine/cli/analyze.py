@@ -9,8 +9,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..analysis import analyze_file, write_plan_text
-from ..outputs import OutputDir
+from lbw_engine.outputs import OutputDir
+from lbw_engine.understand import analyze_file, write_plan_text
 
 HELP = "analyze a recognized action sequence (actions.json) into a task plan"
 

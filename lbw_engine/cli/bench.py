@@ -1,6 +1,6 @@
 """``lbw bench [--count N] [--seed S] [--out FILE] [--jobs J]``: measure the whole pipeline.
 
-Generates N random scenarios (``perception.generator``; scenario i has seed
+Generates N random scenarios (``perception.world.generator``; scenario i has seed
 S*1000+i and noise level nominal, 2x, 4x in turn), runs watch → analyze →
 execute on each in a process pool, and reports per noise level: exact-sequence
 rate, edit-distance accuracy, segmentation timing error (median, 95th
@@ -24,9 +24,14 @@ import traceback
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
-from ..outputs import atomic_write_text, to_json
-from ..report.metrics import compare_sequence, format_table, plan_final_relations, summarize
+from lbw_engine.errors import InputError
+from lbw_engine.outputs import atomic_write_text, to_json
+from lbw_engine.report.metrics import (
+    compare_sequence,
+    format_table,
+    plan_final_relations,
+    summarize,
+)
 
 HELP = "benchmark watch → analyze → execute on seeded random scenarios at three noise levels"
 LEVELS = ("nominal", "2x", "4x")
@@ -57,9 +62,9 @@ _RULES: dict[Any, tuple] = {}
 def _rules(rules_dir: str | None) -> tuple:
     """Recognition, analysis and command rules, loaded once per worker process."""
     if rules_dir not in _RULES:
-        from ..analysis import load_rules as load_analysis_rules
-        from ..execution import commandrules
-        from ..rules import load_rules
+        from lbw_engine.rules import commands as commandrules
+        from lbw_engine.rules import load_rules
+        from lbw_engine.understand import load_rules as load_analysis_rules
 
         rules = load_rules(rules_dir)
         _RULES[rules_dir] = (rules, load_analysis_rules(rules.directory),
@@ -93,7 +98,7 @@ def true_final(scenario: Any) -> set:
 def run_one(task: tuple[int, str, str | None]) -> dict[str, Any]:
     """Generate, watch, analyze, execute and score one scenario (runs in a worker)."""
     seed, level, rules_dir = task
-    from perception.generator import generate
+    from perception.world.generator import generate
 
     gen = generate(seed, level)
     rec: dict[str, Any] = {"seed": seed, "level": level, "structures": list(gen.structures),
@@ -108,14 +113,13 @@ def run_one(task: tuple[int, str, str | None]) -> dict[str, Any]:
 
 def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     """Run the phases on ``sc`` and fill ``rec`` with the figures."""
-    from perception.demonstrator import Demonstration
-    from perception.groundtruth import ground_truth
-
-    from ..actions import to_actions
-    from ..analysis import RelationTable, analyze, parse_actions
-    from ..execution import plan as planmod
-    from .execute import execute_plan
-    from .watch import watch
+    from lbw_engine.cli.execute import execute_plan
+    from lbw_engine.cli.watch import watch
+    from lbw_engine.do import plan as planmod
+    from lbw_engine.see.actions import to_actions
+    from lbw_engine.understand import RelationTable, analyze, parse_actions
+    from perception.world.demonstrator import Demonstration
+    from perception.world.groundtruth import ground_truth
 
     rules, arules, crules = _rules(rules_dir)
     demo = Demonstration(sc)
@@ -208,7 +212,7 @@ def run(args: argparse.Namespace) -> int:
     if args.count < 1 or args.jobs < 1:
         raise InputError("--count and --jobs must be at least 1", where="arguments")
     if args.scenarios:
-        from perception.generator import generate
+        from perception.world.generator import generate
 
         folder = Path(args.scenarios)
         for seed, level in tasks(args.count, args.seed):

@@ -5,11 +5,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..analysis import load_rules as load_analysis_rules
-from ..analysis import load_templates
-from ..errors import InputError
-from ..execution import commandrules
-from ..rules import RULE_FILES, load_rules
+from lbw_engine.errors import InputError
+from lbw_engine.rules import RULE_FILES, load_rules
+from lbw_engine.rules import commands as commandrules
+from lbw_engine.understand import load_rules as load_analysis_rules
+from lbw_engine.understand import load_templates
 
 HELP = "validate rule files (exit 2 with file:line on the first problem)"
 

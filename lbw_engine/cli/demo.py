@@ -12,8 +12,8 @@ import argparse
 import sys
 from typing import Any
 
-from ..outputs import OutputDir
-from ..paths import bundled_scenario
+from lbw_engine.outputs import OutputDir
+from lbw_engine.paths import bundled_scenario
 
 HELP = "run the bundled Build-Table task end to end and show the result"
 
@@ -55,9 +55,8 @@ def top_of_plan(plan: dict[str, Any]) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     """Run the pipeline on scenarios/build-table.yaml and print the paper's figures."""
-    from perception.scenario import load
-
-    from .run import pipeline, publish
+    from lbw_engine.cli.run import pipeline, publish
+    from perception.world.scenario import load
 
     scenario = load(bundled_scenario("build-table"))
     print(f"lbw demo: watching '{scenario.name}' through the top and side cameras ...", flush=True)

@@ -1,6 +1,6 @@
 """``lbw execute PLAN.json SCENARIO --out DIR``: instantiate, execute and verify (Sec. VII).
 
-The wiring between the pure execution logic (``lbw_engine.execution``) and
+The wiring between the pure execution logic (``lbw_engine.do``) and
 the simulated workspace (``perception``): build the scenario's execution
 workspace, measure its initial state, match it to the plan's objects, trace
 the plan into Table IX commands, run them with the robot, let the world settle
@@ -18,17 +18,17 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import InputError, TaskFailed
-from ..execution import commandrules
-from ..execution import plan as planmod
-from ..execution.commandrules import CommandRules
-from ..execution.matching import Measured, match_initial_state, plan_objects, taught_shapes
-from ..execution.model import Body, ExecModel
-from ..execution.plan import Plan
-from ..execution.tracing import Trace, format_commands, trace
-from ..execution.verification import ObjectState, verify
-from ..outputs import OutputDir
-from ..paths import default_rules_dir
+from lbw_engine.do import plan as planmod
+from lbw_engine.do.matching import Measured, match_initial_state, plan_objects, taught_shapes
+from lbw_engine.do.model import Body, ExecModel
+from lbw_engine.do.plan import Plan
+from lbw_engine.do.tracing import Trace, format_commands, trace
+from lbw_engine.do.verification import ObjectState, verify
+from lbw_engine.errors import InputError, TaskFailed
+from lbw_engine.outputs import OutputDir
+from lbw_engine.paths import default_rules_dir
+from lbw_engine.rules import commands as commandrules
+from lbw_engine.rules.commands import CommandRules
 
 HELP = "Instantiate a plan in the scenario's execution workspace, run it with the robot, verify."
 SETTLE_S = 2.0  # seconds the world runs after the last command before measuring
@@ -44,7 +44,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the command; see the module docstring."""
-    from perception import scenario as scenario_mod
+    from perception.world import scenario as scenario_mod
 
     rules = commandrules.load_dir(args.rules or default_rules_dir())
     plan = planmod.load(args.plan)
@@ -76,15 +76,15 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
                  on_step: Callable[[Any], None] | None = None) -> ExecutionResult:
     """Instantiate ``plan`` in ``sc.execute``, run it with the robot and verify it.
 
-    ``sc`` is a loaded ``perception.scenario.Scenario``; ``on_step(world)`` is
+    ``sc`` is a loaded ``perception.world.scenario.Scenario``; ``on_step(world)`` is
     called after every world step of the robot (e.g. to render frames). Raises
     InputError when the plan and the scenario do not fit together; a task that
     cannot be done or does not verify gives ``success=False`` with a message.
     """
-    from perception.camera import default_cameras
-    from perception.render import Renderer
-    from perception.robot import FINGERTIP, Robot
-    from perception.world import World
+    from perception.vision.camera import default_cameras
+    from perception.world.physics import World
+    from perception.world.render import Renderer
+    from perception.world.robot import FINGERTIP, Robot
 
     if rules.tip != FINGERTIP:
         raise InputError(f"gripper.tip must be the simulated gripper's {FINGERTIP:g} mm",
@@ -159,10 +159,10 @@ def measure_initial_state(world: Any, sc: Any, images: dict) -> tuple[list[Measu
     The finder reads only the two camera images; the world is passed for the
     report's ground-truth comparison, never to the finder.
     """
-    from perception.camera import default_cameras
-    from perception.frames import Frame
-    from perception.vfd_objects import ObjectFinder
-    from perception.vfd_resources import VisionResources
+    from perception.vision.camera import default_cameras
+    from perception.vision.frames import Frame
+    from perception.vision.vfd.objects import ObjectFinder
+    from perception.vision.vfd.resources import VisionResources
 
     finder = ObjectFinder(default_cameras(), VisionResources())
     frame = Frame(0, world.time, images["top"], images["side"])

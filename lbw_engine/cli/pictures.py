@@ -2,9 +2,9 @@
 
 ``run_with_pictures`` is ``run.pipeline`` with eyes for people: the
 demonstration is watched through the monitor display of Fig. 19
-(``perception.overlay``), the robot's execution is rendered through the same
-cameras, the plan is drawn (``perception.plandraw``) and everything is put into
-one self-contained ``report.html`` (``perception.report``). Files staged into
+(``perception.pictures.overlay``), the robot's execution is rendered through the same
+cameras, the plan is drawn (``perception.pictures.plandraw``) and everything is put into
+one self-contained ``report.html`` (``perception.pictures.report``). Files staged into
 the caller's OutputDir:
 
 | flag     | files                                                               |
@@ -22,16 +22,16 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..outputs import OutputDir
-from .run import RunResult, pipeline
+from lbw_engine.cli.run import RunResult, pipeline
+from lbw_engine.outputs import OutputDir
 
 
 def run_with_pictures(scenario: Any, rules_dir: Any, out: OutputDir, video: bool = True,
                       report: bool = True, fps: float = 30.0) -> RunResult:
     """``pipeline`` with the monitor as watcher and the robot recorded; stage the pictures."""
-    from perception.overlay import ExecutionRecorder, record_demonstration
-    from perception.plandraw import png_bytes, svg_text
-    from perception.report import run_report
+    from perception.pictures.overlay import ExecutionRecorder, record_demonstration
+    from perception.pictures.plandraw import png_bytes, svg_text
+    from perception.pictures.report import run_report
 
     kept: list = []
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..actions import to_actions
-from ..outputs import OutputDir
-from ..replay import recognize_trace
-from ..rules import load_rules
+from lbw_engine.outputs import OutputDir
+from lbw_engine.rules import load_rules
+from lbw_engine.see.actions import to_actions
+from lbw_engine.see.replay import recognize_trace
 
 HELP = "recognize the action sequence of a recorded event trace; writes actions.json"
 

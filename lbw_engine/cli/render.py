@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..errors import InputError
-from ..outputs import OutputDir
+from lbw_engine.errors import InputError
+from lbw_engine.outputs import OutputDir
 
 HELP = "render a scenario's demonstration to DIR/demonstration.mp4 (top | side views)"
 
@@ -24,10 +24,10 @@ def run(args: argparse.Namespace) -> int:
     import cv2
     import numpy as np
 
-    from perception.camera import default_cameras
-    from perception.demonstrator import Demonstration
-    from perception.render import Renderer
-    from perception.scenario import load
+    from perception.vision.camera import default_cameras
+    from perception.world.demonstrator import Demonstration
+    from perception.world.render import Renderer
+    from perception.world.scenario import load
 
     if args.fps <= 0 or args.size < 16:
         raise InputError("--fps must be positive and --size at least 16", where="arguments")

@@ -23,15 +23,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..actions import to_actions
-from ..analysis import RelationTable, analyze, parse_actions, write_plan_text
-from ..analysis import load_rules as load_analysis_rules
-from ..errors import InputError
-from ..execution import commandrules
-from ..execution import plan as planmod
-from ..outputs import OutputDir
-from ..rules import load_rules
-from .watch import watch
+from lbw_engine.cli.watch import watch
+from lbw_engine.do import plan as planmod
+from lbw_engine.errors import InputError
+from lbw_engine.outputs import OutputDir
+from lbw_engine.rules import commands as commandrules
+from lbw_engine.rules import load_rules
+from lbw_engine.see.actions import to_actions
+from lbw_engine.understand import RelationTable, analyze, parse_actions, write_plan_text
+from lbw_engine.understand import load_rules as load_analysis_rules
 
 HELP = "watch a demonstration, learn its plan, execute it in the new layout and verify"
 
@@ -82,9 +82,8 @@ class RunResult:
 
 def compare_with_truth(scenario: Any, actions: dict[str, Any]) -> dict[str, Any]:
     """The recognized top-level sequence against the ground truth (evaluation only)."""
-    from perception.groundtruth import expected_operations
-
-    from ..report.metrics import compare_sequence
+    from lbw_engine.report.metrics import compare_sequence
+    from perception.world.groundtruth import expected_operations
 
     expected = list(expected_operations(scenario))
     recognized = [op["operation"] for op in actions["operations"]]
@@ -104,7 +103,7 @@ def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30
     the recognizer), e.g. to draw the monitor display; ``on_step(world)`` is
     called after every step of the robot's world (to record the execution).
     """
-    from .execute import execute_plan
+    from lbw_engine.cli.execute import execute_plan
 
     rules = load_rules(rules_dir)
     arules = load_analysis_rules(rules.directory)
@@ -154,12 +153,12 @@ def publish(result: RunResult, out: OutputDir) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the pipeline, publish every file, exit 0 only on success."""
-    from perception.scenario import load
+    from perception.world.scenario import load
 
     scenario = load(Path(args.scenario))
     with OutputDir(args.out) as out:
         if args.video or args.report:
-            from .pictures import run_with_pictures
+            from lbw_engine.cli.pictures import run_with_pictures
 
             result = run_with_pictures(scenario, args.rules, out, video=args.video,
                                        report=args.report)

@@ -1,7 +1,7 @@
 """``lbw watch SCENARIO --out DIR [--rules DIR]``: recognize a demonstration from images.
 
-The world side (demonstrator and renderer, ``perception.stream``) produces
-frames one at a time; the recognizer (``perception.envnodes_adapters.watch_frames``)
+The world side (demonstrator and renderer, ``perception.world.stream``) produces
+frames one at a time; the recognizer (``perception.vision.envnodes.adapters.watch_frames``)
 receives only that frame iterator, the camera models, the shape database and
 the teach names as a naming hint (docs/seeing.md). Writes ``actions.json``.
 """
@@ -12,10 +12,10 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..actions import to_actions
-from ..errors import InputError
-from ..outputs import OutputDir
-from ..rules import load_rules
+from lbw_engine.errors import InputError
+from lbw_engine.outputs import OutputDir
+from lbw_engine.rules import load_rules
+from lbw_engine.see.actions import to_actions
 
 HELP = "watch a scenario's demonstration through the two cameras; writes actions.json"
 
@@ -30,9 +30,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def watch(scenario, rules, fps: float = 30.0, pixel_noise: float | None = None):
     """Simulate, render and recognize online; returns (recognizer, eyes)."""
-    from perception.camera import default_cameras
-    from perception.envnodes_adapters import watch_frames
-    from perception.stream import demonstration_frames, teach_names
+    from perception.vision.camera import default_cameras
+    from perception.vision.envnodes.adapters import watch_frames
+    from perception.world.stream import demonstration_frames, teach_names
 
     cameras = default_cameras()
     frames = demonstration_frames(scenario, cameras, fps=fps, pixel_noise=pixel_noise)
@@ -42,7 +42,7 @@ def watch(scenario, rules, fps: float = 30.0, pixel_noise: float | None = None):
 def run(args: argparse.Namespace) -> int:
     """Watch the demonstration and publish actions.json; exit 1 if recognition failed or
     does not verify against the scenario's demonstration."""
-    from perception.scenario import load
+    from perception.world.scenario import load
 
     if args.fps <= 0:
         raise InputError("--fps must be positive", where="arguments")
@@ -62,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     elif any(op is None for op in ops):
         problems.append("some motions could not be classified")
     else:  # evaluation only: the scenario says what was demonstrated
-        from .run import compare_with_truth
+        from lbw_engine.cli.run import compare_with_truth
 
         same = compare_with_truth(scenario, actions)
         if not same["exact"]:

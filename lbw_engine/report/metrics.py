@@ -1,7 +1,7 @@
 """Recognized sequence vs. ground truth, plan vs. true final relations (benchmark figures).
 
 Operation names are compared as opaque strings: nothing here knows what any
-operation means (the rules decide). One convention from perception.groundtruth:
+operation means (the rules decide). One convention from perception.world.groundtruth:
 the hand's leaving motion may be split by the recognizer (Fig. 12 shows two
 closing operations where the demonstrator made one), so trailing repeats of a
 sequence's last operation count as one (``collapse_tail``).

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from lbw_engine.analysis import read_plan_text
 from lbw_engine.cli import main
 from lbw_engine.paths import default_rules_dir
+from lbw_engine.understand import read_plan_text
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 FIG12 = DATA / "fig12-inverted-arch.actions.json"

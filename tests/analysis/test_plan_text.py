@@ -7,7 +7,8 @@ from pathlib import Path
 import pytest
 
 from bench.bench_analysis import synthetic_task
-from lbw_engine.analysis import (
+from lbw_engine.errors import InputError
+from lbw_engine.understand import (
     RelationTable,
     analyze,
     analyze_file,
@@ -16,7 +17,6 @@ from lbw_engine.analysis import (
     read_plan_text,
     write_plan_text,
 )
-from lbw_engine.errors import InputError
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 

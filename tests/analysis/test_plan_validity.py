@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 
 from bench.bench_analysis import synthetic_task
-from lbw_engine.analysis import RelationTable, analyze, load_rules, parse_actions
+from lbw_engine.understand import RelationTable, analyze, load_rules, parse_actions
 
 
 def _plan(n):

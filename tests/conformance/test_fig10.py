@@ -13,8 +13,8 @@ import dataclasses
 
 import pytest
 
-from lbw_engine.replay import run_script
 from lbw_engine.rules import load_rules
+from lbw_engine.see.replay import run_script
 
 RULES = load_rules()
 ONE_PASS = dataclasses.replace(RULES, constants={**RULES.constants, "detect-passes-per-frame": 1})

@@ -12,9 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from lbw_engine.actions import to_actions
-from lbw_engine.replay import recognize_trace
 from lbw_engine.rules import load_rules
+from lbw_engine.see.actions import to_actions
+from lbw_engine.see.replay import recognize_trace
 
 TRACES = Path(__file__).resolve().parent.parent / "data" / "traces"
 RULES = load_rules()

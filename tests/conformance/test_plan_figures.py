@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from bench.bench_analysis import TABLE, TaskWriter, on
-from lbw_engine.analysis import RelationTable, analyze, analyze_file, load_rules, parse_actions
+from lbw_engine.understand import RelationTable, analyze, analyze_file, load_rules, parse_actions
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 

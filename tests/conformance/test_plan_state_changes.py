@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from lbw_engine.analysis import (
+from lbw_engine.understand import (
     RelationTable,
     focused_objects,
     gather_changes,

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from lbw_engine.analysis import RelationTable, analyze, load_rules, parse_actions
 from lbw_engine.errors import InputError
+from lbw_engine.understand import RelationTable, analyze, load_rules, parse_actions
 
 
 def run(words: str):

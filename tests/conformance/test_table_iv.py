@@ -5,8 +5,8 @@ import math
 
 import pytest
 
-from lbw_engine.motionfeatures import classify
 from lbw_engine.rules import load_rules
+from lbw_engine.see.motionfeatures import classify
 
 RULES = load_rules()
 TABLE = RULES.motion_features

@@ -5,10 +5,10 @@ environment model (Hold, the kind of target) and from detector snapshots
 
 import pytest
 
-from lbw_engine.actmodel import ActNode, classify, compute_features
-from lbw_engine.detectors import Detection, ObjectInfo
-from lbw_engine.envmodel import EnvModel, Relation
+from lbw_engine.model.env import EnvModel, Relation
 from lbw_engine.rules import load_rules
+from lbw_engine.see.actmodel import ActNode, classify, compute_features
+from lbw_engine.see.detectors import Detection, ObjectInfo
 
 RULES = load_rules()
 

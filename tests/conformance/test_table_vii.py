@@ -7,8 +7,8 @@ of records per frame) and looks at the action model afterwards.
 
 import pytest
 
-from lbw_engine.replay import run_script
 from lbw_engine.rules import load_rules
+from lbw_engine.see.replay import run_script
 
 RULES = load_rules()
 B1 = {"shape": "brick", "size": [30, 30, 50], "position": [0, 200, 25]}

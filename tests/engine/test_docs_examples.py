@@ -3,9 +3,9 @@
 import re
 from pathlib import Path
 
-from lbw_engine.actions import sequence
-from lbw_engine.replay import recognize_trace
 from lbw_engine.rules import load_rules
+from lbw_engine.see.actions import sequence
+from lbw_engine.see.replay import recognize_trace
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "replay-trace.md"
 

@@ -4,7 +4,7 @@ as Sec. V-B4 corrects the vertical position from the support's size."""
 
 import pytest
 
-from lbw_engine.envmodel import EnvModel, EnvNode
+from lbw_engine.model.env import EnvModel, EnvNode
 from lbw_engine.rules import load_rules
 
 SIZE = (40.0, 30.0, 50.0)

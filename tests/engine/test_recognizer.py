@@ -3,13 +3,13 @@ updates (Sec. V-B4), end of input, and the detector registry."""
 
 import pytest
 
-from lbw_engine.actions import to_actions
-from lbw_engine.detectors import Detection, DetectorRegistry
-from lbw_engine.envmodel import EnvModel
 from lbw_engine.errors import InputError
-from lbw_engine.recognizer import Recognizer
-from lbw_engine.replay import run_script
+from lbw_engine.model.env import EnvModel
 from lbw_engine.rules import load_rules
+from lbw_engine.see.actions import to_actions
+from lbw_engine.see.detectors import Detection, DetectorRegistry
+from lbw_engine.see.recognizer import Recognizer
+from lbw_engine.see.replay import run_script
 
 RULES = load_rules()
 B = {"shape": "brick", "size": [30, 30, 50]}

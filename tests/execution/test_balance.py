@@ -11,12 +11,12 @@ from pathlib import Path
 import pytest
 
 from lbw_engine.cli.execute import execute_plan
-from lbw_engine.execution import commandrules
-from lbw_engine.execution import plan as planmod
-from lbw_engine.execution.balance import unbalanced
-from lbw_engine.execution.model import Body, ExecModel
+from lbw_engine.do import plan as planmod
+from lbw_engine.do.balance import unbalanced
+from lbw_engine.do.model import Body, ExecModel
 from lbw_engine.paths import default_rules_dir
-from perception.scenario import load
+from lbw_engine.rules import commands as commandrules
+from perception.world.scenario import load
 
 DATA = Path(__file__).resolve().parent / "data"
 SUPPORTS = ("on", "on-multiple")

@@ -8,12 +8,12 @@ from pathlib import Path
 
 import pytest
 
+from lbw_engine.do.expander import Context, Expander
+from lbw_engine.do.model import Body, ExecModel
 from lbw_engine.errors import InputError
-from lbw_engine.execution import commandrules
-from lbw_engine.execution.commandrules import Step
-from lbw_engine.execution.expander import Context, Expander
-from lbw_engine.execution.model import Body, ExecModel
 from lbw_engine.paths import default_rules_dir
+from lbw_engine.rules import commands as commandrules
+from lbw_engine.rules.commands import Step
 
 RULES = commandrules.load_dir(default_rules_dir())
 A = RULES.approach_height

@@ -5,10 +5,10 @@ from pathlib import Path
 
 from lbw_engine.cli import main
 from lbw_engine.cli.execute import execute_plan
-from lbw_engine.execution import commandrules
-from lbw_engine.execution import plan as planmod
+from lbw_engine.do import plan as planmod
 from lbw_engine.paths import bundled_scenario, default_rules_dir
-from perception.scenario import load
+from lbw_engine.rules import commands as commandrules
+from perception.world.scenario import load
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

@@ -15,10 +15,10 @@ sys.path.insert(0, str(ROOT))
 
 from bench.bench_layouts import random_layout, with_layout  # noqa: E402
 from lbw_engine.cli.execute import execute_plan  # noqa: E402
-from lbw_engine.execution import commandrules  # noqa: E402
-from lbw_engine.execution import plan as planmod  # noqa: E402
+from lbw_engine.do import plan as planmod  # noqa: E402
 from lbw_engine.paths import bundled_scenario, default_rules_dir  # noqa: E402
-from perception.scenario import load  # noqa: E402
+from lbw_engine.rules import commands as commandrules  # noqa: E402
+from perception.world.scenario import load  # noqa: E402
 
 CASES = [(name, seed) for name in ("build-table", "inverted-arch") for seed in (11, 12, 13)]
 

@@ -2,8 +2,8 @@
 
 import pytest
 
+from lbw_engine.do.matching import Measured, match_initial_state
 from lbw_engine.errors import TaskFailed
-from lbw_engine.execution.matching import Measured, match_initial_state
 
 BRICK, PLATE, CUBE = (30.0, 30.0, 50.0), (120.0, 100.0, 10.0), (40.0, 40.0, 40.0)
 

@@ -4,12 +4,12 @@ from pathlib import Path
 
 import pytest
 
+from lbw_engine.do import plan as planmod
+from lbw_engine.do.model import Body, ExecModel
+from lbw_engine.do.tracing import format_commands, trace
 from lbw_engine.errors import InputError, TaskFailed
-from lbw_engine.execution import commandrules
-from lbw_engine.execution import plan as planmod
-from lbw_engine.execution.model import Body, ExecModel
-from lbw_engine.execution.tracing import format_commands, trace
 from lbw_engine.paths import default_rules_dir
+from lbw_engine.rules import commands as commandrules
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 RULES = commandrules.load_dir(default_rules_dir())

@@ -2,7 +2,7 @@
 
 import pytest
 
-from lbw_engine.execution.verification import ObjectState, verify
+from lbw_engine.do.verification import ObjectState, verify
 
 BRICK, PLATE = (30.0, 30.0, 50.0), (120.0, 100.0, 10.0)
 LEGS = {"brick1": (-70.0, 145.0), "brick2": (-70.0, 215.0), "brick3": (20.0, 215.0),

@@ -4,10 +4,10 @@ import math
 
 import pytest
 
-from perception.demonstrator import Demonstration
-from perception.generator import BUILDERS, CATALOGUE, LEVELS, generate
-from perception.groundtruth import expected_operations
-from perception.world import World
+from perception.world.demonstrator import Demonstration
+from perception.world.generator import BUILDERS, CATALOGUE, LEVELS, generate
+from perception.world.groundtruth import expected_operations
+from perception.world.physics import World
 
 SEEDS = range(50)
 

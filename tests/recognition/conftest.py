@@ -8,14 +8,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lbw_engine.actions import to_actions
 from lbw_engine.rules import load_rules
-from perception.camera import default_cameras
-from perception.demonstrator import Demonstration
-from perception.envnodes_adapters import watch_frames
-from perception.groundtruth import ground_truth
-from perception.scenario import load
-from perception.stream import demonstration_frames, teach_names
+from lbw_engine.see.actions import to_actions
+from perception.vision.camera import default_cameras
+from perception.vision.envnodes.adapters import watch_frames
+from perception.world.demonstrator import Demonstration
+from perception.world.groundtruth import ground_truth
+from perception.world.scenario import load
+from perception.world.stream import demonstration_frames, teach_names
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENARIOS = sorted(p.stem for p in (ROOT / "scenarios").glob("*.yaml"))

@@ -1,4 +1,4 @@
-"""Watching a bench scenario (perception.generator) and checking it against the ground truth.
+"""Watching a bench scenario (perception.world.generator) and checking it against the ground truth.
 
 Shared by the regression files of this folder: each names the seeds (and noise
 levels) of `lbw bench` that once failed and the cause that was fixed.
@@ -8,13 +8,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from lbw_engine.actions import to_actions
 from lbw_engine.rules import load_rules
-from perception.camera import default_cameras
-from perception.envnodes_adapters import watch_frames
-from perception.generator import generate
-from perception.groundtruth import expected_operations
-from perception.stream import demonstration_frames, teach_names
+from lbw_engine.see.actions import to_actions
+from perception.vision.camera import default_cameras
+from perception.vision.envnodes.adapters import watch_frames
+from perception.world.generator import generate
+from perception.world.groundtruth import expected_operations
+from perception.world.stream import demonstration_frames, teach_names
 
 
 def watch_generated(seed: int, level: str = "nominal") -> tuple[Any, Any, dict[str, Any]]:

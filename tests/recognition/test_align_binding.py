@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import pytest
 
-from lbw_engine import replay
-from lbw_engine.detectors import Detection
-from lbw_engine.replay import run_script
 from lbw_engine.rules import load_rules
+from lbw_engine.see import replay
+from lbw_engine.see.detectors import Detection
+from lbw_engine.see.replay import run_script
 
 RULES = load_rules()
 B = {"shape": "brick", "size": [30, 30, 50]}

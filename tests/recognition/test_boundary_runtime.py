@@ -8,9 +8,9 @@ from itertools import islice
 
 import numpy as np
 
-from perception.camera import default_cameras
-from perception.scenario import load
-from perception.stream import demonstration_frames, teach_names
+from perception.vision.camera import default_cameras
+from perception.world.scenario import load
+from perception.world.stream import demonstration_frames, teach_names
 
 from .conftest import ROOT
 
@@ -18,16 +18,15 @@ SECONDS = 15.0  # place-and-align: REACH and PICK of block1 are over by then
 
 CHILD = r"""
 import sys
-for name in ("pymunk", "perception.world", "perception.demonstrator", "perception.scenario",
-             "perception.groundtruth", "perception.render", "perception.robot"):
+for name in ("pymunk", "perception.world"):
     sys.modules[name] = None  # any import of the simulator now fails
 import json
 import numpy as np
-from lbw_engine.actions import to_actions
+from lbw_engine.see.actions import to_actions
 from lbw_engine.rules import load_rules
-from perception.camera import default_cameras
-from perception.envnodes_adapters import watch_frames
-from perception.frames import Frame
+from perception.vision.camera import default_cameras
+from perception.vision.envnodes.adapters import watch_frames
+from perception.vision.frames import Frame
 data = np.load(sys.argv[1])
 hint = json.loads(sys.argv[2])
 frames = [Frame(i, float(t), top, side)

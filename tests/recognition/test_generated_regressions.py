@@ -1,6 +1,6 @@
 """Generated scenarios that used to be misrecognized at nominal noise (issue #7, `lbw bench`).
 
-Each seed is one bench scenario (perception.generator, level nominal) whose
+Each seed is one bench scenario (perception.world.generator, level nominal) whose
 recognized top-level sequence once differed from the ground truth or whose
 recorded supports were wrong. Now the sequence must equal the demonstrator's
 and every moved object must end on the objects it really rests on.

@@ -1,6 +1,6 @@
 """Generated places whose target (a block or the table) was misread at :Near (`lbw bench`).
 
-Each case is one bench scenario (perception.generator) where a PLACE-ON-BLOCK was
+Each case is one bench scenario (perception.world.generator) where a PLACE-ON-BLOCK was
 read as PLACE-ON-TABLE or the other way round, because of what the guided search
 below the held block (Sec. III-E) confirmed against the environment model. Now
 the sequence must equal the demonstrator's and every moved object must end on

@@ -5,7 +5,7 @@ a view where the slowly moving hand barely changed the image; the triangulated
 point fell more than 120 mm from the tracked hand, the hand-tracker was
 re-placed onto empty table, lost the hand within four frames and the task ended
 with :Disappeared. Now the motion-detector needs a seed cell above the measured
-sensor noise in each view (perception.vfd_motion).
+sensor noise in each view (perception.vision.vfd.motion).
 """
 
 from __future__ import annotations
@@ -13,12 +13,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from perception.camera import default_cameras
-from perception.demonstrator import Demonstration
-from perception.generator import generate
-from perception.stream import demonstration_frames
-from perception.vfd_motion import MotionDetector
-from perception.vfd_resources import VisionResources
+from perception.vision.camera import default_cameras
+from perception.vision.vfd.motion import MotionDetector
+from perception.vision.vfd.resources import VisionResources
+from perception.world.demonstrator import Demonstration
+from perception.world.generator import generate
+from perception.world.stream import demonstration_frames
 
 from .generated import assert_sequence, watch_generated
 

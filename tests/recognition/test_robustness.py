@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from perception.groundtruth import expected_operations
+from perception.world.groundtruth import expected_operations
 
 from .conftest import SCENARIOS, watch
 
@@ -14,7 +14,7 @@ PIXEL_FACTOR, TREMOR_FACTOR = 2.0, 3.0
 
 @pytest.mark.parametrize("name", SCENARIOS)
 def test_noisier_demonstration_gives_the_exact_sequence(name):
-    from perception.scenario import load
+    from perception.world.scenario import load
 
     from .conftest import ROOT
 

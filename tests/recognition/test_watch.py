@@ -1,7 +1,7 @@
 """Recognition from rendered images (issue #5): every bundled scenario against its ground truth.
 
 Each scenario is simulated, rendered and recognized once (conftest.py); the
-tests compare the recognized actions.json with perception.groundtruth.
+tests compare the recognized actions.json with perception.world.groundtruth.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import math
 
 import pytest
 
-from perception.groundtruth import expected_operations
+from perception.world.groundtruth import expected_operations
 
 from .conftest import SCENARIOS, visible_span
 

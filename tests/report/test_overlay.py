@@ -7,15 +7,14 @@ import cv2
 import numpy as np
 import pytest
 
-from lbw_engine.actions import to_actions
 from lbw_engine.cli.execute import execute_plan
 from lbw_engine.cli.watch import watch
-from lbw_engine.execution import commandrules
-from lbw_engine.execution import plan as planmod
+from lbw_engine.do import plan as planmod
 from lbw_engine.paths import default_rules_dir
+from lbw_engine.rules import commands as commandrules
 from lbw_engine.rules import load_rules
-from perception.generator import generate
-from perception.overlay import (
+from lbw_engine.see.actions import to_actions
+from perception.pictures.overlay import (
     ATTN_COLOR,
     HAND_COLOR,
     PANEL_H,
@@ -23,7 +22,8 @@ from perception.overlay import (
     draw_monitor,
     record_demonstration,
 )
-from perception.scenario import load
+from perception.world.generator import generate
+from perception.world.scenario import load
 
 ROOT = Path(__file__).resolve().parents[2]
 

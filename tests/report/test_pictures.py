@@ -7,7 +7,7 @@ import cv2
 from lbw_engine.cli.pictures import run_with_pictures
 from lbw_engine.cli.run import publish
 from lbw_engine.outputs import OutputDir
-from perception.generator import generate
+from perception.world.generator import generate
 
 
 def test_run_with_pictures_stages_every_file(tmp_path):

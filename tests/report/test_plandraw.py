@@ -8,8 +8,8 @@ import cv2
 import numpy as np
 import pytest
 
-from lbw_engine.analysis import analyze_file
-from perception.plandraw import plan_picture, png_bytes, svg_text, to_image
+from lbw_engine.understand import analyze_file
+from perception.pictures.plandraw import plan_picture, png_bytes, svg_text, to_image
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 SVG = "{http://www.w3.org/2000/svg}"

@@ -11,13 +11,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lbw_engine.analysis import write_plan_text
-from perception.camera import default_cameras
-from perception.demonstrator import Demonstration
-from perception.groundtruth import ground_truth
-from perception.render import Renderer
-from perception.report import pick_frames, render_report, timeline_svg
-from perception.scenario import load
+from lbw_engine.understand import write_plan_text
+from perception.pictures.report import pick_frames, render_report, timeline_svg
+from perception.vision.camera import default_cameras
+from perception.world.demonstrator import Demonstration
+from perception.world.groundtruth import ground_truth
+from perception.world.render import Renderer
+from perception.world.scenario import load
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "tests" / "data"
@@ -121,16 +121,16 @@ def test_timeline_rows():
 
 def test_run_report_of_a_real_run(tmp_path):
     """watch (with the monitor) → analyze → execute (recorded) → report.html, in Chromium."""
-    from lbw_engine.actions import to_actions
-    from lbw_engine.analysis import RelationTable, analyze, load_rules, parse_actions
     from lbw_engine.cli.execute import execute_plan
-    from lbw_engine.execution import commandrules
-    from lbw_engine.execution import plan as planmod
+    from lbw_engine.do import plan as planmod
     from lbw_engine.paths import default_rules_dir
+    from lbw_engine.rules import commands as commandrules
     from lbw_engine.rules import load_rules as load_recognition_rules
-    from perception.generator import generate
-    from perception.overlay import ExecutionRecorder, record_demonstration
-    from perception.report import run_report
+    from lbw_engine.see.actions import to_actions
+    from lbw_engine.understand import RelationTable, analyze, load_rules, parse_actions
+    from perception.pictures.overlay import ExecutionRecorder, record_demonstration
+    from perception.pictures.report import run_report
+    from perception.world.generator import generate
 
     sc = generate(5, structures=["tower"]).scenario()
     rec, _, kept = record_demonstration(sc, load_recognition_rules(), None, keep_every=3.0,

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from perception.camera import default_cameras
-from perception.frames import Frame
-from perception.render import Renderer
-from perception.scene import Box
+from perception.vision.camera import default_cameras
+from perception.vision.frames import Frame
+from perception.world.render import Renderer
+from perception.world.scene import Box
 
 CAMS = default_cameras()
 

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from perception.camera import WORKSPACE_HI, WORKSPACE_LO, default_cameras, triangulate
-from perception.render import Renderer
-from perception.scene import Box
+from perception.vision.camera import WORKSPACE_HI, WORKSPACE_LO, default_cameras, triangulate
+from perception.world.render import Renderer
+from perception.world.scene import Box
 
 CAMS = default_cameras()
 

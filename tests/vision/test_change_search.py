@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from perception.vfd import Region3D
-from perception.vfd_change import ChangeDetector
-from perception.vfd_resources import VisionResources
-from perception.vfd_search import SilFinder, snapshot_region, visual_search
+from perception.vision.vfd.base import Region3D
+from perception.vision.vfd.change import ChangeDetector
+from perception.vision.vfd.resources import VisionResources
+from perception.vision.vfd.search import SilFinder, snapshot_region, visual_search
 
 from .helpers import CAMS, Film, block, dist, hand
 

@@ -2,10 +2,10 @@
 
 import pytest
 
-from perception.scene import Box
-from perception.vfd import Region3D
-from perception.vfd_coplanar import CoplanarDetector
-from perception.vfd_resources import VisionResources
+from perception.vision.vfd.base import Region3D
+from perception.vision.vfd.coplanar import CoplanarDetector
+from perception.vision.vfd.resources import VisionResources
+from perception.world.scene import Box
 
 from .helpers import CAMS, Film, block
 

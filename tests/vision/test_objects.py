@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from perception.vfd_objects import ObjectFinder
-from perception.vfd_resources import VisionResources
+from perception.vision.vfd.objects import ObjectFinder
+from perception.vision.vfd.resources import VisionResources
 
 from .helpers import CAMS, Film, block
 

@@ -1,6 +1,6 @@
 """Object-finder on generated workspaces (Sec. III-B teach, Sec. VII-A execute): regressions.
 
-Each row is a generated scenario's workspace (perception.generator) whose
+Each row is a generated scenario's workspace (perception.world.generator) whose
 initial state once broke a run, rendered through the simulated world at the
 row's noise level. The finder must report every block once, with its shape,
 its centre within 5 mm, and nothing else.
@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from bench.bench_objects import score, truth_and_frame
-from perception.camera import default_cameras
-from perception.vfd_objects import ObjectFinder
-from perception.vfd_resources import VisionResources
+from perception.vision.camera import default_cameras
+from perception.vision.vfd.objects import ObjectFinder
+from perception.vision.vfd.resources import VisionResources
 
 # (seed, workspace, noise level, expected block count, what used to go wrong)
 ROWS = [

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from perception.camera import default_cameras
-from perception.render import CREASE_GRAY, HAND_GRAY, Renderer
-from perception.scene import Box
+from perception.vision.camera import default_cameras
+from perception.world.render import CREASE_GRAY, HAND_GRAY, Renderer
+from perception.world.scene import Box
 
 CAMS = default_cameras()
 

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from perception.vfd import Region3D
-from perception.vfd_resources import VisionResources
-from perception.vfd_search import SilFinder
+from perception.vision.vfd.base import Region3D
+from perception.vision.vfd.resources import VisionResources
+from perception.vision.vfd.search import SilFinder
 
 from .helpers import CAMS, Film, block
 

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from perception.vfd import Region3D
-from perception.vfd_hand import HandTracker
-from perception.vfd_motion import MotionDetector
-from perception.vfd_resources import MAX_WINDOWS, ResourceExhausted, VisionResources
+from perception.vision.vfd.base import Region3D
+from perception.vision.vfd.hand import HandTracker
+from perception.vision.vfd.motion import MotionDetector
+from perception.vision.vfd.resources import MAX_WINDOWS, ResourceExhausted, VisionResources
 
 from .helpers import CAMS, Film, block, dist, hand
 
@@ -108,7 +108,7 @@ def test_hand_tracker_is_replaced_when_motion_disagrees_by_more_than_120mm():
 
 
 def test_attention_projects_a_region_into_both_views():
-    from perception.vfd import VFD
+    from perception.vision.vfd.base import VFD
     res = VisionResources()
     v = VFD(CAMS, res)
     v.attention(Region3D.around((0, 200, 25), (30, 30, 50)))

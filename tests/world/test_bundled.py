@@ -7,9 +7,9 @@ from pathlib import Path
 import pymunk
 import pytest
 
-from perception.demonstrator import Demonstration
-from perception.scenario import load
-from perception.world import World
+from perception.world.demonstrator import Demonstration
+from perception.world.physics import World
+from perception.world.scenario import load
 
 SCENARIOS = sorted(p.stem for p in (Path(__file__).parents[2] / "scenarios").glob("*.yaml"))
 

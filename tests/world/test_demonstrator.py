@@ -6,11 +6,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from perception.demonstrator import Demonstration, min_jerk
-from perception.groundtruth import expected_operations, ground_truth
-from perception.hand import Gripper
-from perception.scenario import load, load_text
-from perception.world import World
+from perception.world.demonstrator import Demonstration, min_jerk
+from perception.world.groundtruth import expected_operations, ground_truth
+from perception.world.hand import Gripper
+from perception.world.physics import World
+from perception.world.scenario import load, load_text
 
 ROOT = Path(__file__).parents[2] / "scenarios"
 

@@ -3,7 +3,7 @@
 import pytest
 
 from lbw_engine.errors import InputError
-from perception.scenario import load_text
+from perception.world.scenario import load_text
 
 GOOD = """\
 name: t

@@ -1,0 +1,138 @@
+"""Checks that span rule files: every reference exists, and every row can fire.
+
+A row "can never fire" when its motion class is never instantiated, when no
+ATTN-node of that class ever waits for its event, or (Table V) when an earlier
+row already matches whenever it does (checked in ``rulefiles``).
+"""
+
+from __future__ import annotations
+
+from lbw_engine import rules as R
+
+
+def _keys_of(rules: R.RuleSet) -> set[str]:
+    """Everything an interpretation may be keyed by: events and motion-feature values."""
+    return set(rules.events) | set(rules.motion_features.values())
+
+
+def _reachable(rules: R.RuleSet) -> set[str]:
+    """Motion classes that can ever be instantiated (from the start class)."""
+    seen = {rules.start_motion().name}
+    changed = True
+    while changed:
+        changed = False
+        for row in rules.transitions.values():
+            if row.motion in seen and row.next and row.next not in seen:
+                seen.add(row.next)
+                changed = True
+    return seen
+
+
+def _awaited(rules: R.RuleSet, motion: str) -> set[str]:
+    """Keys an ACT-node of ``motion`` can receive: its ATTN-nodes' events and their values."""
+    events = {r.event for r in rules.redirections.get(motion, ()) if r.op != "delete"}
+    keys = set(events)
+    for event in events:
+        if event in rules.motion_features.ranges:
+            keys |= set(rules.motion_features.values())
+    return keys
+
+
+def _check_transitions(rules: R.RuleSet, reachable: set[str]) -> None:
+    keys = _keys_of(rules)
+    for row in rules.transitions.values():
+        if row.motion not in rules.motions:
+            raise row.at.error(f"motion class {row.motion!r} does not exist")
+        if row.key not in keys:
+            raise row.at.error(f"event {row.key!r} does not exist")
+        if row.next is not None:
+            if row.next not in rules.motions:
+                raise row.at.error(f"next motion class {row.next!r} does not exist")
+            level, nxt = rules.motions[row.motion].level, rules.motions[row.next].level
+            want = level + 1 if row.direction == "down" else level
+            if nxt != want:
+                raise row.at.error(
+                    f"a {row.direction!r} transition from level {level} must lead to level "
+                    f"{want}, but {row.next} is at level {nxt}"
+                )
+    for row in rules.transitions.values():
+        if row.motion not in reachable:
+            raise row.at.error(f"this row can never fire: no transition creates {row.motion}")
+        if row.key not in _awaited(rules, row.motion):
+            raise row.at.error(
+                f"this row can never fire: no ATTN-node of {row.motion} waits for {row.key!r}"
+            )
+
+
+def _check_redirections(rules: R.RuleSet) -> None:
+    keys = _keys_of(rules)
+    for motion, rows in rules.redirections.items():
+        for row in rows:
+            if motion not in rules.motions:
+                raise row.at.error(f"motion class {motion!r} does not exist")
+            if row.key != R.INIT and row.key not in keys:
+                raise row.at.error(f"event {row.key!r} does not exist")
+            if row.event is not None and row.event not in rules.events:
+                raise row.at.error(f"event {row.event!r} does not exist")
+
+
+def _check_redirections_fire(rules: R.RuleSet, reachable: set[str]) -> None:
+    for motion, rows in rules.redirections.items():
+        for row in rows:
+            if motion not in reachable:
+                raise row.at.error(f"this row can never fire: no transition creates {motion}")
+            if row.key != R.INIT and row.key not in _awaited(rules, motion):
+                raise row.at.error(
+                    f"this row can never fire: no ATTN-node of {motion} waits for {row.key!r}"
+                )
+
+
+def _check_effects(rules: R.RuleSet) -> None:
+    for op, rule in rules.effects.items():
+        if op not in rules.operations:
+            raise rule.at.error(f"operation {op!r} does not exist in operations.yaml")
+        bound = set(rule.bind)
+        for name, value in rule.bind.items():
+            feature = value.get("to", value.get("found")) if isinstance(value, dict) else None
+            if feature is not None and feature not in rules.features:
+                raise rule.at.error(f"feature {feature!r} of binding {name!r} does not exist")
+
+        def var(text: str, at: R.Where, star_ok: bool = False, bound=bound, op=op) -> None:
+            """A template term must be '*' or a variable the rule binds."""
+            if text == "*":
+                return
+            if not text.startswith("$"):
+                raise at.error(f"{text!r} is neither a variable ($name) nor '*'")
+            name = text[1:-1] if star_ok and text.endswith("*") else text[1:]
+            if name not in bound:
+                raise at.error(f"variable ${name} is not bound in 'bind' of {op}")
+
+        for tpl in (*rule.remove, *rule.add):
+            var(tpl.subject, tpl.at, star_ok=True)
+            var(tpl.object, tpl.at)
+            if tpl.wrt is not None:
+                var(tpl.wrt, tpl.at)
+            if tpl.when is not None:
+                var(tpl.when[1], tpl.at)
+        for key, value in rule.move.items():
+            if key == "measured":
+                if value not in rules.features:
+                    raise rule.at.error(f"feature {value!r} in move does not exist")
+            else:
+                var(value, rule.at)
+
+
+def check(rules: R.RuleSet) -> None:
+    """Raise InputError (file:line) on the first inconsistency across rule files."""
+    for feature in rules.features.values():
+        if feature.detector is not None and feature.detector not in rules.detectors:
+            raise feature.at.error(f"detector {feature.detector!r} does not exist")
+    rules.operations = {row.operation for rows in rules.classification.values() for row in rows}
+    _check_redirections(rules)
+    reachable = _reachable(rules)
+    _check_transitions(rules, reachable)
+    _check_redirections_fire(rules, reachable)
+    for motion, rows in rules.classification.items():
+        if motion not in reachable:
+            raise rows[0].at.error(f"this row can never fire: no transition creates {motion}")
+    _check_effects(rules)

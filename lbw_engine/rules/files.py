@@ -1,0 +1,394 @@
+"""Parsing of each rule file into the typed records of ``rules``.
+
+Each reader checks the shape of its file (unknown keys, wrong types, names
+that are not declared earlier in the same file) and duplicate rows; checks that
+span files are in ``rulecheck``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from lbw_engine import rules as R
+from lbw_engine.rules.reader import Reader
+from lbw_engine.yamlio import line_of, load_file
+
+
+def _top(directory: Path, name: str, required: tuple[str, ...], optional=()) -> tuple[Reader, dict]:
+    """Load one rule file and check its top-level keys."""
+    path = directory / name
+    reader = Reader(path)
+    data = load_file(path)
+    data = reader.mapping(data, "the file")
+    reader.keys(data, "the file", required, optional)
+    return reader, data
+
+
+def _binding(reader: Reader, row: dict, key: str, default: str | None = "none") -> R.Binding:
+    """A slot binding: one name of the closed vocabulary, or a list of them."""
+    value = row.get(key, default)
+    names = value if isinstance(value, list) else [value]
+    if not names:
+        reader.fail(f"binding {key!r} is an empty list", row, key)
+    for name in names:
+        reader.one_of(name, R.BINDINGS, f"binding {key!r}:", row, key)
+    return tuple(names)
+
+
+def _events(directory: Path):
+    reader, data = _top(directory, "events.yaml", ("detectors", "events"))
+    detectors: dict[str, R.DetectorDef] = {}
+    for name, spec in reader.mapping(data["detectors"], "detectors", data, "detectors").items():
+        spec = reader.mapping(spec, f"detector {name!r}", data["detectors"], name)
+        reader.keys(spec, f"detector {name!r}", (), ("builtin",))
+        builtin = spec.get("builtin")
+        if builtin is not None:
+            reader.one_of(builtin, ("constant",), "builtin detector", spec, "builtin")
+        detectors[name] = R.DetectorDef(
+            name, builtin, R.Where(reader.file, line_of(data["detectors"], name))
+        )
+    events: dict[str, R.EventDef] = {}
+    table = reader.mapping(data["events"], "events", data, "events")
+    for key, spec in table.items():
+        if isinstance(key, bool):
+            reader.fail("an event name reads as a boolean; quote the name", table, key)
+        spec = reader.mapping(spec, f"event {key!r}", table, key)
+        reader.keys(spec, f"event {key!r}", ("detector", "nodes"), ("meaning",))
+        detector = reader.one_of(spec["detector"], detectors, "detector", spec, "detector")
+        nodes = reader.sequence(spec["nodes"], "nodes", spec, "nodes")
+        for node in nodes:
+            reader.one_of(
+                node, ("World", "HandLoc", "Loc", "Table"), "ENV-node class", spec, "nodes"
+            )
+        at = R.Where(reader.file, line_of(table, key))
+        events[key] = R.EventDef(key, str(spec.get("meaning", "")), detector, tuple(nodes), at)
+    return detectors, events
+
+
+def _motion_features(directory: Path, events: dict[str, R.EventDef]) -> R.MotionFeatures:
+    reader, data = _top(directory, "motion-features.yaml", ("speed-ranges", "angles", "values"))
+    ranges: dict[str, tuple[float, float]] = {}
+    table = reader.mapping(data["speed-ranges"], "speed-ranges", data, "speed-ranges")
+    for event, spec in table.items():
+        reader.one_of(event, events, "event", table, event)
+        spec = reader.mapping(spec, f"speed range {event!r}", table, event)
+        reader.keys(spec, f"speed range {event!r}", ("low", "high"))
+        low, high = reader.number(spec, "low", "speed"), reader.number(spec, "high", "speed")
+        if not 0 <= low < high:
+            reader.fail(f"speed range {event!r} needs 0 <= low < high", table, event)
+        ranges[event] = (low, high)
+    angles = reader.mapping(data["angles"], "angles", data, "angles")
+    reader.keys(angles, "angles", ("down", "up"))
+    down, up = reader.number(angles, "down", "angle"), reader.number(angles, "up", "angle")
+    if not 0 < down < up < 180:
+        reader.fail("angles need 0 < down < up < 180 degrees", data, "angles")
+    rows: list[R.FeatureValueRow] = []
+    seen: dict[Any, int] = {}
+    values = reader.sequence(data["values"], "values", data, "values")
+    for index, row in enumerate(values):
+        row = reader.mapping(row, "a value row", values, index)
+        reader.keys(row, "a value row", ("value", "speed"), ("direction",))
+        value = reader.name(row, "value", "value row")
+        speed = reader.one_of(row["speed"], R.SPEED_TESTS, "speed test", row, "speed")
+        direction = row.get("direction")
+        if speed == "within":
+            reader.one_of(direction, R.DIRECTION_TESTS, "direction test", row, "direction")
+        elif direction is not None:
+            reader.fail(f"a {speed!r} row cannot test the direction (Table IV)", row, "direction")
+        sig = (speed, direction)
+        if sig in seen or value in [r.value for r in rows]:
+            reader.fail(f"duplicate row for {value!r}: it can never fire", values, index)
+        seen[sig] = index
+        rows.append(
+            R.FeatureValueRow(value, speed, direction, R.Where(reader.file, line_of(values, index)))
+        )
+    needed = {("slow", None), ("fast", None)} | {("within", d) for d in R.DIRECTION_TESTS}
+    missing = needed - set(seen)
+    if missing:
+        reader.fail(f"Table IV rows do not cover {sorted(map(str, missing))}", data, "values")
+    return R.MotionFeatures(ranges, down, up, tuple(rows))
+
+
+def _motions(directory: Path) -> dict[str, R.MotionClass]:
+    reader, data = _top(directory, "motions.yaml", ("motions",))
+    table = reader.mapping(data["motions"], "motions", data, "motions")
+    motions: dict[str, R.MotionClass] = {}
+    for name, spec in table.items():
+        spec = reader.mapping(spec, f"motion {name!r}", table, name)
+        reader.keys(spec, f"motion {name!r}", ("level",), ("start", "root", "fine"))
+        level = spec["level"]
+        if isinstance(level, bool) or not isinstance(level, int) or level < 0:
+            reader.fail(f"motion {name!r} level must be a whole number >= 0", spec, "level")
+        flags = {}
+        for flag in ("start", "root", "fine"):
+            flags[flag] = spec.get(flag, False)
+            if not isinstance(flags[flag], bool):
+                reader.fail(f"{flag!r} must be a boolean", spec, flag)
+        at = R.Where(reader.file, line_of(table, name))
+        motions[name] = R.MotionClass(name, level, flags["start"], flags["root"], flags["fine"], at)
+    for flag in ("start", "root"):
+        marked = [m for m in motions.values() if getattr(m, flag)]
+        if len(marked) != 1:
+            reader.fail(f"exactly one motion class must be marked {flag!r}", data, "motions")
+    return motions
+
+
+def _operations(directory: Path, events, motions):
+    reader, data = _top(directory, "operations.yaml", ("features", "classification"))
+    features: dict[str, R.FeatureDef] = {}
+    table = reader.mapping(data["features"], "features", data, "features")
+    for name, spec in table.items():
+        spec = reader.mapping(spec, f"feature {name!r}", table, name)
+        reader.keys(spec, f"feature {name!r}", ("source",), ("detector", "values", "kinds"))
+        source = reader.one_of(spec["source"], R.FEATURE_SOURCES, "feature source", spec, "source")
+        values: tuple[Any, ...] = ()
+        kinds: dict[str, str] = {}
+        detector = None
+        if source == "snapshot-diff":
+            if "detector" not in spec or "values" not in spec:
+                reader.fail(f"feature {name!r} needs a detector and its values", table, name)
+            detector = spec["detector"]
+            values = tuple(reader.sequence(spec["values"], "values", spec, "values"))
+        elif source == "final-event":
+            values = tuple(events)
+        elif source == "holding":
+            values = (True, False)
+        else:
+            kinds = dict(reader.mapping(spec.get("kinds"), "kinds", spec, "kinds"))
+            for kind in kinds:
+                reader.one_of(
+                    kind, ("World", "HandLoc", "Loc", "Table"), "ENV-node class", spec, "kinds"
+                )
+            values = tuple(kinds.values())
+        takes = {
+            "snapshot-diff": ("detector", "values"),
+            "target-kind": ("kinds",),
+            "support-kind": ("kinds",),
+        }
+        for key in ("detector", "values", "kinds"):
+            if key in spec and key not in takes.get(source, ()):
+                reader.fail(f"feature {name!r} of source {source!r} takes no {key!r}", spec, key)
+        at = R.Where(reader.file, line_of(table, name))
+        features[name] = R.FeatureDef(name, source, detector, values, kinds, at)
+    classification: dict[str, tuple[R.ClassRow, ...]] = {}
+    table = reader.mapping(data["classification"], "classification", data, "classification")
+    for motion, rows in table.items():
+        reader.one_of(motion, motions, "motion class", table, motion)
+        rows = reader.sequence(rows, f"rows of {motion}", table, motion)
+        out: list[R.ClassRow] = []
+        for index, row in enumerate(rows):
+            row = reader.mapping(row, "a Table V row", rows, index)
+            reader.keys(row, "a Table V row", ("operation",), ("when", "label"))
+            operation = reader.name(row, "operation", "Table V row")
+            when = reader.mapping(row.get("when", {}), "when", row, "when")
+            for feature, value in when.items():
+                spec = reader.one_of(feature, features, "feature", when, feature)
+                reader.one_of(value, features[spec].values, f"value of {feature!r}:", when, feature)
+            at = R.Where(reader.file, line_of(rows, index))
+            for earlier in out:
+                if earlier.when.items() <= when.items():
+                    raise at.error(
+                        f"this {motion} row can never fire: the row at line "
+                        f"{earlier.at.line} already matches whenever it does"
+                    )
+            label = reader.name(row, "label", "Table V row") if "label" in row else None
+            out.append(R.ClassRow(motion, dict(when), operation, at, label))
+        classification[motion] = tuple(out)
+    return features, classification
+
+
+def _template(reader: Reader, item: Any, container: Any, index: int, relations) -> R.Template:
+    """One relation template of effects.yaml."""
+    when = None
+    if isinstance(item, dict):
+        reader.keys(item, "a relation rule", ("relation",), ("when",))
+        cond = reader.mapping(item.get("when", {}), "when", item, "when")
+        reader.keys(cond, "when", (), ("single", "multiple"))
+        if len(cond) != 1:
+            reader.fail("when needs exactly one of single / multiple", item, "when")
+        ((kind, var),) = cond.items()
+        when = (kind, str(var))
+        item = item["relation"]
+    item = reader.sequence(item, "a relation template", container, index)
+    if len(item) not in (3, 4):
+        reader.fail(
+            "a relation template is [type, subject, object] or with {wrt: ...}", container, index
+        )
+    rtype = reader.one_of(item[0], relations, "relation", container, index)
+    wrt = None
+    if len(item) == 4:
+        extra = reader.mapping(item[3], "the :at part", container, index)
+        reader.keys(extra, "the :at part", ("wrt",))
+        wrt = str(extra["wrt"])
+    at = R.Where(reader.file, line_of(container, index))
+    return R.Template(rtype, str(item[1]), str(item[2]), wrt, when, at)
+
+
+def _effects(directory: Path):
+    reader, data = _top(
+        directory, "effects.yaml", ("relations", "hold-relation", "support-relations", "operations")
+    )
+    relations = tuple(reader.sequence(data["relations"], "relations", data, "relations"))
+    hold = reader.one_of(data["hold-relation"], relations, "relation", data, "hold-relation")
+    support = tuple(
+        reader.sequence(data["support-relations"], "support-relations", data, "support-relations")
+    )
+    for name in support:
+        reader.one_of(name, relations, "relation", data, "support-relations")
+    effects: dict[str, R.EffectRule] = {}
+    table = reader.mapping(data["operations"], "operations", data, "operations")
+    for op, spec in table.items():
+        spec = reader.mapping(spec, f"effects of {op!r}", table, op)
+        reader.keys(spec, f"effects of {op!r}", ("bind",), ("remove", "add", "move"))
+        bind = reader.mapping(spec["bind"], "bind", spec, "bind")
+        for var, value in bind.items():
+            if isinstance(value, dict) and "found" in value:
+                reader.keys(value, f"binding of {var!r}", ("found", "else"))
+                if not isinstance(value["found"], str):
+                    reader.fail(f"binding of {var!r}: found must name a feature", value, "found")
+                reader.one_of(value["else"], R.BINDINGS, "binding", value, "else")
+            elif isinstance(value, dict):
+                reader.keys(value, f"binding of {var!r}", ("nearest", "to"))
+                reader.one_of(value["nearest"], R.BINDINGS, "binding", value, "nearest")
+            else:
+                reader.one_of(value, R.BINDINGS, "binding", bind, var)
+        groups = {}
+        for key in ("remove", "add"):
+            items = reader.sequence(spec.get(key, []), key, spec, key)
+            groups[key] = tuple(
+                _template(reader, it, items, i, relations) for i, it in enumerate(items)
+            )
+        move = reader.mapping(spec.get("move", {}), "move", spec, "move")
+        if move:
+            shapes = (("follow", "object"), ("place", "on", "measured"))
+            if tuple(move) not in shapes:
+                reader.fail(
+                    "move is {follow: $h, object: $o} or {place: $o, on: $s, measured: FEATURE}",
+                    spec,
+                    "move",
+                )
+        at = R.Where(reader.file, line_of(table, op))
+        effects[op] = R.EffectRule(op, dict(bind), groups["remove"], groups["add"], dict(move), at)
+    return relations, hold, support, effects
+
+
+def _transitions(directory: Path) -> dict[tuple[str, str], R.TransitionRow]:
+    reader, data = _top(directory, "transitions.yaml", ("transitions",))
+    rows = reader.sequence(data["transitions"], "transitions", data, "transitions")
+    out: dict[tuple[str, str], R.TransitionRow] = {}
+    for index, row in enumerate(rows):
+        row = reader.mapping(row, "a Table VII row", rows, index)
+        reader.keys(
+            row,
+            "a Table VII row",
+            ("motion", "event", "transition"),
+            ("next", *R.SLOTS, "close-target"),
+        )
+        motion = reader.name(row, "motion", "Table VII row")
+        key = reader.name(row, "event", "Table VII row")
+        direction = reader.one_of(row["transition"], R.DIRECTIONS, "transition", row, "transition")
+        nxt = row.get("next")
+        if (direction in ("next", "down")) != (nxt is not None):
+            reader.fail(
+                f"a {direction!r} transition {'needs' if nxt is None else 'takes no'} 'next'",
+                rows,
+                index,
+            )
+        slots = {slot: _binding(reader, row, slot) for slot in R.SLOTS if slot in row}
+        close = _binding(reader, row, "close-target") if "close-target" in row else None
+        at = R.Where(reader.file, line_of(rows, index))
+        if (motion, key) in out:
+            first = out[(motion, key)].at.line
+            raise at.error(f"duplicate row for {motion} on {key!r} (first at line {first})")
+        out[(motion, key)] = R.TransitionRow(motion, key, direction, nxt, slots, close, at)
+    return out
+
+
+def _redirections(directory: Path) -> dict[str, tuple[R.RedirectionRow, ...]]:
+    reader, data = _top(directory, "attention.yaml", ("redirections",))
+    rows = reader.sequence(data["redirections"], "redirections", data, "redirections")
+    out: dict[str, list[R.RedirectionRow]] = {}
+    for index, row in enumerate(rows):
+        row = reader.mapping(row, "a Table VIII row", rows, index)
+        reader.keys(row, "a Table VIII row", ("motion", "on", "op"), ("event", "base", "target"))
+        motion = reader.name(row, "motion", "Table VIII row")
+        key = reader.name(row, "on", "Table VIII row")
+        op = reader.one_of(row["op"], R.STACK_OPS, "stack operation", row, "op")
+        event = reader.name(row, "event", "Table VIII row") if "event" in row else None
+        if op != "delete" and event is None:
+            reader.fail(f"an {op!r} redirection needs the next 'event'", rows, index)
+        at = R.Where(reader.file, line_of(rows, index))
+        rec = R.RedirectionRow(
+            motion,
+            key,
+            op,
+            event,
+            _binding(reader, row, "base"),
+            _binding(reader, row, "target"),
+            at,
+        )
+        for other in out.get(motion, []):
+            if (other.key, other.op, other.event) == (key, op, event):
+                raise at.error(
+                    f"duplicate row for {motion} on {key!r} (first at line {other.at.line})"
+                )
+        out.setdefault(motion, []).append(rec)
+    return {m: tuple(rs) for m, rs in out.items()}
+
+
+def _constants(directory: Path) -> dict[str, Any]:
+    reader, data = _top(
+        directory,
+        "constants.yaml",
+        (
+            "attention-region",
+            "search-cycle-limit",
+            "repositioning-distance",
+            "motion-detector-interval",
+            "detect-passes-per-frame",
+            "place-clearance",
+            "place-overlap-limit",
+            "hand-velocity-window",
+            "far-margin",
+        ),
+    )
+    region = reader.sequence(data["attention-region"], "attention-region", data, "attention-region")
+    if len(region) != 3 or not all(isinstance(v, int | float) and v > 0 for v in region):
+        reader.fail("attention-region must be three sizes in mm", data, "attention-region")
+    for key in ("search-cycle-limit", "detect-passes-per-frame"):
+        if not isinstance(data[key], int) or isinstance(data[key], bool) or data[key] < 1:
+            reader.fail(f"{key} must be a whole number >= 1", data, key)
+    for key in ("repositioning-distance", "motion-detector-interval", "hand-velocity-window",
+                "far-margin"):
+        if reader.number(data, key, "constant") <= 0:
+            reader.fail(f"{key} must be positive", data, key)
+    for key in ("place-clearance", "place-overlap-limit"):
+        if reader.number(data, key, "constant") < 0:
+            reader.fail(f"{key} must be zero or more", data, key)
+    return {k: (tuple(v) if isinstance(v, list) else v) for k, v in data.items()}
+
+
+def read_all(directory: Path) -> R.RuleSet:
+    """Parse every rule file of ``directory``."""
+    detectors, events = _events(directory)
+    motion_features = _motion_features(directory, events)
+    motions = _motions(directory)
+    features, classification = _operations(directory, events, motions)
+    relations, hold, support, effects = _effects(directory)
+    return R.RuleSet(
+        directory=directory,
+        detectors=detectors,
+        events=events,
+        motion_features=motion_features,
+        motions=motions,
+        features=features,
+        classification=classification,
+        relations=relations,
+        hold_relation=hold,
+        support_relations=support,
+        effects=effects,
+        transitions=_transitions(directory),
+        redirections=_redirections(directory),
+        constants=_constants(directory),
+    )

@@ -1,0 +1,189 @@
+"""The monitor display of Fig. 19, and videos of a demonstration and of an execution.
+
+``draw_monitor`` draws one frame as the paper's monitor shows it: the top and
+side views side by side with the live attention windows (yellow), the
+hand-tracker's windows (green), and under them the attention stack (Sec. V-A,
+one line per level) and the operation being recognized. ``watch_monitored``
+is ``perception.vision.envnodes.adapters.watch_frames`` with a per-frame hook, called after
+the recognizer has finished each frame (so the picture shows what the
+recognizer knew at that frame: online, no look-ahead). ``record_demonstration``
+streams the monitor frames into an MP4 and keeps a few for report.html;
+``ExecutionRecorder`` is an ``on_step`` hook for ``execute_plan`` that renders
+the robot's work through the same cameras.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import cv2
+import numpy as np
+
+from lbw_engine.rules import RuleSet
+from lbw_engine.see.detectors import DetectorRegistry
+from lbw_engine.see.recognizer import Recognizer
+from perception.vision.camera import Camera, default_cameras
+from perception.vision.envnodes.adapters import perception_detectors
+from perception.vision.envnodes.eyes import Eyes
+from perception.vision.frames import Frame
+from perception.world.render import Renderer
+
+PANEL_H = 120  # px of text under the views
+HAND_COLOR, ATTN_COLOR, TEXT_COLOR = (60, 220, 60), (0, 215, 255), (235, 235, 235)
+FONT = cv2.FONT_HERSHEY_SIMPLEX
+
+Window = tuple[str, tuple[int, int, int, int], str]  # (view, (x0, y0, x1, y1), kind)
+
+
+def draw_monitor(top: np.ndarray, side: np.ndarray, windows: Sequence[Window],
+                 stack_lines: Sequence[str], operation: str, t: float | None = None,
+                 scale: int = 2) -> np.ndarray:
+    """Both views (scaled) with window rectangles, and a text panel below (BGR image)."""
+    views = {"top": top, "side": side}
+    tiles = []
+    for name in ("top", "side"):
+        img = cv2.cvtColor(views[name], cv2.COLOR_GRAY2BGR) if views[name].ndim == 2 \
+            else views[name].copy()
+        img = cv2.resize(img, None, fx=scale, fy=scale, interpolation=cv2.INTER_NEAREST)
+        for view, (x0, y0, x1, y1), kind in windows:
+            if view == name:
+                color = HAND_COLOR if kind == "hand" else ATTN_COLOR
+                cv2.rectangle(img, (x0 * scale, y0 * scale), (x1 * scale - 1, y1 * scale - 1),
+                              color, 1)
+        cv2.putText(img, name, (6, 18), FONT, 0.5, TEXT_COLOR, 1, cv2.LINE_AA)
+        tiles.append(img)
+    views_img = np.hstack([tiles[0], np.full((tiles[0].shape[0], 4, 3), 90, np.uint8), tiles[1]])
+    panel = np.full((PANEL_H, views_img.shape[1], 3), 25, np.uint8)
+    head = f"t = {t:6.2f} s   " if t is not None else ""
+    cv2.putText(panel, f"{head}operation: {operation}", (8, 20), FONT, 0.55, (120, 230, 255),
+                1, cv2.LINE_AA)
+    lines = list(stack_lines)[-5:] or ["(attention stack empty)"]
+    for k, line in enumerate(lines):
+        cv2.putText(panel, line[:150], (8, 44 + 18 * k), FONT, 0.45, TEXT_COLOR, 1, cv2.LINE_AA)
+    return np.vstack([views_img, panel])
+
+
+def monitor_state(recognizer: Recognizer, eyes: Eyes) -> tuple[list[Window], list[str], str]:
+    """What the monitor shows now: windows, attention stack lines, current operation."""
+    hand_ids = {w.wid for ws in eyes.tracker.windows.values() for w in ws}
+    # VisionResources keeps no public list of live windows; the monitor only reads it.
+    live = list(getattr(eyes.resources, "_live", {}).values())
+    windows = [(w.view, (w.x0, w.y0, w.x1, w.y1), "hand" if w.wid in hand_ids else "attention")
+               for w in live if w.wid not in hand_ids or eyes.tracker.tracking]
+    lines = []
+    for level, nodes in enumerate(recognizer.stack.describe()):
+        items = [f":{ev} {'/'.join(base) or '-'}>{'/'.join(target) or '-'}"
+                 for ev, base, target in nodes]
+        lines.append(f"ATTN level {level}: " + ("  ".join(items) or "-"))
+    chain, node = [], recognizer.root
+    while node is not None:
+        chain.append(node.motion + (f"={node.operation}" if node.operation else ""))
+        node = node.subnode
+    last = recognizer.root.history[-1].operation if recognizer.root is not None and \
+        recognizer.root.history else None
+    operation = " > ".join(chain) or "-"
+    if last:
+        operation += f"   (last: {last})"
+    return windows, lines, operation
+
+
+def watch_monitored(frames: Iterable[Frame], cameras: Mapping[str, Camera],
+                    shapes: Mapping[str, Sequence[float]], rules: RuleSet,
+                    names: Mapping[str, tuple[str, Sequence[float]]] | None,
+                    on_frame: Callable[[Frame, Recognizer, Eyes], None]
+                    ) -> tuple[Recognizer, Eyes]:
+    """``watch_frames`` with ``on_frame(frame, recognizer, eyes)`` after each frame's steps."""
+    eyes = Eyes(cameras, shapes, rules, names)
+    registry = DetectorRegistry.for_rules(rules, perception_detectors(eyes))
+    recognizer = Recognizer(rules, registry)
+    for frame in frames:
+        if recognizer.finished:
+            break
+        recognizer.step(frame.t, frame)
+        on_frame(frame, recognizer, eyes)
+    recognizer.finish()
+    return recognizer, eyes
+
+
+class VideoFile:
+    """An MP4 written frame by frame (OpenCV's mp4v codec); no-op without a path."""
+
+    def __init__(self, path: str | Path | None, fps: float) -> None:
+        """Open lazily: the size is known at the first frame."""
+        self.path, self.fps, self.writer, self.frames = path, fps, None, 0
+
+    def add(self, image: np.ndarray) -> None:
+        """Append one BGR frame."""
+        if self.path is None:
+            return
+        if self.writer is None:
+            h, w = image.shape[:2]
+            self.writer = cv2.VideoWriter(str(self.path), cv2.VideoWriter_fourcc(*"mp4v"),
+                                          self.fps, (w, h))
+            if not self.writer.isOpened():
+                raise OSError(f"cannot write video {self.path}")
+        self.writer.write(image)
+        self.frames += 1
+
+    def close(self) -> None:
+        """Finish the file."""
+        if self.writer is not None:
+            self.writer.release()
+            self.writer = None
+
+
+def record_demonstration(scenario: Any, rules: RuleSet, video: str | Path | None = None,
+                         keep_every: float = 2.0, fps: float = 30.0, scale: int = 2
+                         ) -> tuple[Recognizer, Eyes, list[tuple[float, np.ndarray]]]:
+    """Watch ``scenario`` on the monitor; MP4 to ``video``; keep one frame per ``keep_every`` s."""
+    from perception.world.stream import demonstration_frames, teach_names
+
+    cameras = default_cameras()
+    out = VideoFile(video, fps)
+    kept: list[tuple[float, np.ndarray]] = []
+
+    def on_frame(frame: Frame, rec: Recognizer, eyes: Eyes) -> None:
+        """Draw the monitor; stream it, keep a sample."""
+        wins, lines, op = monitor_state(rec, eyes)
+        image = draw_monitor(frame.top, frame.side, wins, lines, op, frame.t, scale)
+        out.add(image)
+        if not kept or frame.t - kept[-1][0] >= keep_every - 1e-9:
+            kept.append((frame.t, image))
+
+    try:
+        rec, eyes = watch_monitored(demonstration_frames(scenario, cameras, fps=fps), cameras,
+                                    scenario.shapes, rules, teach_names(scenario), on_frame)
+    finally:
+        out.close()
+    return rec, eyes, kept
+
+
+class ExecutionRecorder:
+    """``on_step`` hook for ``execute_plan``: renders the robot's world every ``every`` steps."""
+
+    def __init__(self, video: str | Path | None = None, every: int = 1, fps: float = 30.0,
+                 keep_every: float = 2.0, pixel_noise: float = 2.0, scale: int = 2) -> None:
+        """Record to ``video`` (MP4) and keep a frame every ``keep_every`` s of robot time."""
+        self.renderer = Renderer(default_cameras(), pixel_noise=pixel_noise, seed=0)
+        self.out = VideoFile(video, fps / every)
+        self.every, self.keep_every, self.scale = every, keep_every, scale
+        self.steps = 0
+        self.kept: list[tuple[float, np.ndarray]] = []
+
+    def __call__(self, world: Any) -> None:
+        """Render one robot step (the world is read only through its scene)."""
+        self.steps += 1
+        if self.steps % self.every:
+            return
+        views = self.renderer.render(world.scene())
+        image = draw_monitor(views["top"], views["side"], [], ["robot executing the plan"],
+                             "execution", world.time, self.scale)
+        self.out.add(image)
+        if not self.kept or world.time - self.kept[-1][0] >= self.keep_every - 1e-9:
+            self.kept.append((world.time, image))
+
+    def close(self) -> None:
+        """Finish the video file."""
+        self.out.close()

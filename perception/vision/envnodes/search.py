@@ -1,0 +1,142 @@
+"""ENV-node helper for the guided visual search: :Near below the hand (Sec. III-E, Fig. 6).
+
+Turns the tracked hand and the environment model into the stepped 3-D search
+regions of the sil-finder (perception/vision/vfd/search.py) and a found silhouette into
+the target ENV-nodes (docs/seeing.md).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from lbw_engine.model.env import TABLE, EnvModel, EnvNode
+from perception.vision.envnodes.snapshots import box, held_box
+from perception.vision.vfd.base import Region3D
+from perception.vision.vfd.search import SilFinder
+
+if TYPE_CHECKING:  # pragma: no cover
+    from perception.vision.envnodes.eyes import Eyes
+
+TOP_TOLERANCE_MM = 15.0  # confirmed targets: tops within this of the highest one (a support set)
+SUPPORT_TOLERANCE_MM = 8.0  # the held block's centre may lie this far off its supports' boxes
+TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
+
+
+def held_here(eyes: Eyes, env: EnvModel) -> tuple[EnvNode, Region3D] | None:
+    """The held object and its box under the hand, the hand's x checked by the palm.
+
+    A finger window clamped at the palm puts the tracker's point 25-35 mm beside a wide
+    grasp (docs/seeing.md); where the held block is decides what lies below it.
+    """
+    held = held_box(eyes, env)
+    if held is None or eyes.spot is None:
+        return held
+    return held[0], box(held[0], eyes.spot + eyes.spot_grip)
+
+
+class SearchNode:
+    """:Near through the sil-finder: stepped regions below the hand (Sec. III-E, Fig. 6)."""
+
+    def __init__(self, eyes: Eyes) -> None:
+        """A sil-finder on the shared windows."""
+        self.eyes = eyes
+        self.finder = SilFinder(eyes.cameras, eyes.resources)
+        self.limit = int(eyes.rules.constants["search-cycle-limit"])
+        self.default = tuple(float(v) for v in eyes.rules.constants["attention-region"])
+        self.last: Region3D | None = None
+
+    def regions(self, env: EnvModel) -> tuple[list[Region3D], set[str]]:
+        """The search regions, top to bottom, and the names never to report (held, riders)."""
+        eyes = self.eyes
+        held = held_here(eyes, env)
+        if held is None:
+            start = Region3D.around(eyes.hand, self.default)
+            skip: set[str] = set()
+            first = 0
+        else:
+            node, start = held
+            skip = {node.name, *env.supported_by(node.name)}
+            first = 1  # the held object itself is not a target
+        # Footnote 8 steps by the region's height; a thin held plate would then reach only a
+        # few cm, so a step is at least the empty hand's region height (docs/seeing.md).
+        step = max(float(start.size[2]), self.default[2])
+        lo = float(start.lo[2])
+        cycles = min(max(0, math.ceil(lo / step)), self.limit)
+        out = []
+        for k in range(first, cycles + 1):
+            top = lo - (k - 1) * step if k else float(start.hi[2])
+            out.append(Region3D((start.lo[0], start.lo[1], top - step if k else lo),
+                                (start.hi[0], start.hi[1], top)))
+        return out, skip
+
+    def near(self, env: EnvModel) -> tuple[str, ...]:
+        """Names of the confirmed targets below the hand, () when none yet."""
+        if self.eyes.hand is None:
+            return ()
+        regions, skip = self.regions(env)
+        held = held_here(self.eyes, env)
+        # The held block hangs over the searched place in both views: leave its outline out
+        # (grown by 2 mm, for the tremor) so only what lies below it can be found.
+        exclude = [] if held is None else [
+            Region3D(tuple(np.asarray(held[1].lo) - 2.0), tuple(np.asarray(held[1].hi) + 2.0))]
+        for region in regions:
+            self.finder.attention(region)
+            if self.finder.look(self.eyes.frame, exclude) is not None:
+                names = self.confirm(region, env, skip, held[1] if held else None)
+                if names:
+                    self.last = region
+                    return names
+            if held is not None and region.lo[2] <= 0.0:
+                self.last = region  # reached the table with no block below: the table
+                return (TABLE,)
+        return ()
+
+    def grasped(self, hits: Sequence[EnvNode], env: EnvModel) -> tuple[str, ...]:
+        """The one block an empty hand is reaching for among the blocks found below it.
+
+        At :Near the hand may still be 20 mm beside the grasp point, so a rider on a
+        plank can reach into the hand-sized region before the plank does. The blocks
+        found and what they rest on are candidates; the one whose centre is nearest the
+        hand wins, the upper one on a near tie (a tower's blocks are centred on each other).
+        """
+        cands = {n.name: n for n in hits}
+        todo = list(hits)
+        while todo:
+            for below in env.get(env.supports_of(todo.pop().name)):
+                if below.kind == "Loc" and below.position is not None and below.name not in cands:
+                    cands[below.name] = below
+                    todo.append(below)
+        hand = np.asarray(self.eyes.hand[:2], float)
+        dist = {name: float(np.hypot(*(np.asarray(n.position[:2]) - hand)))
+                for name, n in cands.items()}
+        near = min(dist.values()) + TIE_MM
+        return (max((n for n in cands.values() if dist[n.name] <= near), key=EnvNode.top).name,)
+
+    def confirm(self, region: Region3D, env: EnvModel, skip: set[str],
+                held: Region3D | None) -> tuple[str, ...]:
+        """Loc nodes the found region meets (Sec. III-E step 3): one level of them only.
+
+        With an object in the hand, blocks count as its supports only if its centre is
+        over them (their joint footprint): a block beside the spot is not under it. Such
+        a block may stand higher than the spot's supports and graze the held footprint
+        (a pyramid's upper cube beside the next place): the levels below it are tried.
+        """
+        hits = [n for n in env.nodes_intersecting(region.center, region.size)
+                if n.name not in skip]
+        if not hits:
+            return ()
+        if held is None:
+            return self.grasped(hits, env)
+        while hits:
+            top = max(n.top() for n in hits)
+            level = [n for n in hits if n.top() >= top - TOP_TOLERANCE_MM]
+            lo = np.min([box(n).lo for n in level], axis=0)[:2] - SUPPORT_TOLERANCE_MM
+            hi = np.max([box(n).hi for n in level], axis=0)[:2] + SUPPORT_TOLERANCE_MM
+            if np.all(held.center[:2] >= lo) and np.all(held.center[:2] <= hi):
+                return tuple(n.name for n in level)
+            hits = [n for n in hits if n not in level]
+        return ()

@@ -1,0 +1,107 @@
+"""Change-detector: snapshot subtraction in a target region (Sec. III-D1).
+
+``attention(region)`` puts a window on the region in each view; ``snapshot(frame)``
+keeps the window pixels at the start of a LocalMotion, ``compare(frame)`` takes
+the final snapshot and classifies the difference by area: an object appeared,
+disappeared, or nothing changed. Pixels of the hand's gray band in either
+snapshot are masked (the hand may still be in the region at the end). The
+centre of the changed area is triangulated (or, if only the side view changed,
+taken on the side view line at the region's depth).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from perception.vision.camera import Camera
+from perception.vision.frames import Frame
+from perception.vision.vfd.base import DARK_MAX, HAND_BAND, VFD, VIEWS, Region3D, band, centroid
+from perception.vision.vfd.resources import VisionResources
+
+APPEARED, DISAPPEARED, NO_CHANGE = "appeared", "disappeared", "nochange"
+AREA_THRESHOLD = 0.12  # changed fraction of the region's image area that counts as a change
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """The pixels of a region's windows at one moment (opaque to ENV-nodes)."""
+
+    t: float
+    region: Region3D
+    rects: dict[str, tuple[int, int, int, int]]
+    pixels: dict[str, np.ndarray]
+
+
+class ChangeDetector(VFD):
+    """Qualitative change between two snapshots of a region: appeared/disappeared/nochange."""
+
+    def __init__(self, cameras: Mapping[str, Camera], resources: VisionResources,
+                 area_threshold: float = AREA_THRESHOLD) -> None:
+        """A detector with no region yet (call ``attention``)."""
+        super().__init__(cameras, resources)
+        self.area_threshold = area_threshold
+        self._first: Snapshot | None = None
+        self.result: str | None = None
+        self.changed_fraction: dict[str, float] = {}
+
+    def take(self, frame: Frame) -> Snapshot:
+        """A snapshot of the current region's windows on ``frame``."""
+        if self.region is None:
+            raise RuntimeError("change-detector: take() before attention()")
+        rects = {v: (w.x0, w.y0, w.x1, w.y1) for v, (w,) in self.windows.items()}
+        return Snapshot(frame.t, self.region, rects,
+                        {v: self.windows[v][0].read(frame.view(v)).copy() for v in VIEWS})
+
+    def snapshot(self, frame: Frame) -> Snapshot:
+        """Initial snapshot of the region (start of the LocalMotion); also returned."""
+        self._first = self.take(frame)
+        self.result = None
+        return self._first
+
+    def process(self, frame: Frame) -> None:
+        """Per-frame update: nothing to do between the two snapshots."""
+
+    def compare(self, frame: Frame) -> str:
+        """Final snapshot on ``frame``: classify the change against the initial one."""
+        if self._first is None:
+            raise RuntimeError("change-detector: compare() before snapshot()")
+        return self.judge(self._first, self.take(frame))
+
+    def judge(self, first: Snapshot, last: Snapshot) -> str:
+        """Classify the change between two snapshots of one region and locate its centre."""
+        if first.rects != last.rects:
+            raise ValueError("change-detector: the two snapshots cover different regions")
+        votes, centres = {}, {}
+        for v in VIEWS:
+            x0, y0 = first.rects[v][:2]
+            a, b = first.pixels[v], last.pixels[v]
+            hand = band(a, *HAND_BAND) | band(b, *HAND_BAND)
+            obj_a, obj_b = (a > DARK_MAX) & ~hand, (b > DARK_MAX) & ~hand
+            appeared, gone = obj_b & ~obj_a, obj_a & ~obj_b
+            net = (int(appeared.sum()) - int(gone.sum())) / max(1, a.size)
+            votes[v] = net
+            self.changed_fraction[v] = abs(net)
+            c = centroid(appeared if net > 0 else gone)
+            if c is not None:
+                centres[v] = (x0 + c[0], y0 + c[1])
+        view = max(VIEWS, key=lambda v: abs(votes[v]))
+        if abs(votes[view]) < self.area_threshold:
+            self.result, self._target = NO_CHANGE, None
+            return self.result
+        self.result = APPEARED if votes[view] > 0 else DISAPPEARED
+        same = [v for v in VIEWS if abs(votes[v]) >= self.area_threshold / 2
+                and np.sign(votes[v]) == np.sign(votes[view]) and v in centres]
+        region = first.region
+        if len(same) == 2:
+            self._target = self.triangulate(centres["top"], centres["side"])
+        elif "side" in centres:
+            self._target = self.cameras["side"].point_on_plane(
+                centres["side"], 1, float(region.center[1]))
+        else:
+            self._target = self.cameras["top"].point_on_plane_z(
+                centres["top"], float(region.center[2]))
+        self._found = True
+        return self.result

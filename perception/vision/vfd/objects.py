@@ -1,0 +1,367 @@
+"""Object-finder: the initial state from the two views (Sec. III-B).
+
+Coarse to fine: a subsampled top view finds the block silhouettes; a
+full-resolution window on each one segments its top faces (the brightest
+shade; crease lines split stacked faces). Each top face is put in
+correspondence with the side view by a height search: the face's footprint,
+back-projected from the top view onto a plane of height h, must land on
+top-face pixels when projected into the side view. That height, the footprint's
+extent and the top face found under it (or the table) give the box; its shape
+name is the nearest size in the shape database.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from perception.vision.frames import Frame
+from perception.vision.vfd.base import DARK_MAX, VFD
+from perception.vision.vfd.objects_match import SilhouetteCheck, assign
+
+TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
+COARSE = 4  # subsampling of the first, coarse look
+MIN_FACE_PX = 6
+STACK_MISMATCH_MM = 8.0  # a column this far from every shape may be a stack of two
+CREASE_MAX = 110  # crease lines are drawn at 60, faces at 170 and brighter
+FRONT_BAND = (150, 190)  # faces facing -y (the side camera) are drawn at 170
+MIN_SCORE = 0.25  # correspondence score (IoU x solid fraction) taken as a match
+CANDIDATES = 3  # side top faces refined per top-view face
+
+
+@dataclass(frozen=True)
+class FoundObject:
+    """A block recognized in the initial state."""
+
+    shape: str
+    position: tuple[float, float, float]  # box centre, mm
+    size: tuple[float, float, float]  # measured extents, mm
+    mismatch: float  # mm, summed |measured - database size|
+
+
+class ObjectFinder(VFD):
+    """``find(frame, shapes)`` -> list of FoundObject (the :Loc-exist detector, Table III)."""
+
+    def process(self, frame: Frame) -> None:
+        """The object-finder runs once on request: use ``find``."""
+
+    def find(self, frame: Frame, shapes: Mapping[str, Sequence[float]]) -> list[FoundObject]:
+        """Segment, correspond, measure and name every block visible in ``frame``."""
+        faces = self._top_faces(frame.top)
+        side_img = self._read_full("side", frame.side)
+        # Side-view top faces, each grown by a pixel (the crease on its outline is its own).
+        n, labels, stats, _ = cv2.connectedComponentsWithStats(
+            (side_img >= TOP_MIN).astype(np.uint8), connectivity=4)
+        labels = cv2.dilate(labels.astype(np.float32), np.ones((3, 3), np.uint8)).astype(np.int32)
+        areas = np.bincount(labels.ravel(), minlength=n)
+        solid = side_img > DARK_MAX
+        m, blobs, _, _ = cv2.connectedComponentsWithStats(solid.astype(np.uint8), connectivity=8)
+        blob_areas = np.bincount(blobs.ravel(), minlength=m)
+        # Correspondence (Sec. III-B): every top face proposes (score, height, side face)
+        # candidates; a side-view top face belongs to one block only, and the pairing
+        # must explain both whole views (vfd_objects_match).
+        cands = [self._heights(rect, labels, areas, solid) for rect in faces]
+        fallback: dict[int, tuple[float, float]] = {}
+
+        def height_of(k: int, pairing: dict[int, tuple[float, float]]) -> tuple[float, float]:
+            """A face's (height, score): its pairing, else the silhouette search."""
+            if k in pairing and pairing[k][1] >= MIN_SCORE:
+                return pairing[k]
+            if k not in fallback:  # the top face is too thin to see from the side
+                fallback[k] = self._height_from_silhouette(faces[k], blobs, blob_areas)
+            return fallback[k]
+
+        def cost(pairing: dict[int, tuple[float, float]]) -> int:
+            """Pixels the pairing's boxes get wrong in the two views."""
+            cols = []
+            for k, rect in enumerate(faces):
+                h, sc = height_of(k, pairing)
+                if sc >= MIN_SCORE:
+                    cols.append((*self._footprint(rect, h), h))
+            return check.wrong_pixels(cols)
+
+        check = SilhouetteCheck(self.cameras, {"top": self._read_full("top", frame.top) >
+                                               DARK_MAX, "side": solid})
+        pairing = assign(cands, cost)
+        boxes = []
+        for k, rect in enumerate(faces):
+            height, score = height_of(k, pairing)
+            if score < MIN_SCORE:
+                continue
+            boxes.append((height, self._footprint(rect, height), rect))
+        # A top face that frames another one (a ring around it from above) belongs to a
+        # block under it, so it must be lower. A narrow ring is hardly seen from the side
+        # and may come out as high as the column it frames: its block is then measured
+        # with that column (the seam in the side view gives its height).
+        rings: dict[int, tuple] = {}
+        for i, (h_out, _, outer) in enumerate(boxes):
+            for j, (h_in, _, inner) in enumerate(boxes):
+                if i != j and _frames(outer, inner) and h_out >= h_in - 3.0:
+                    rings[j] = outer
+        framing = {i for i, b in enumerate(boxes) if b[2] in rings.values()}
+        found = []
+        for k, (height, (x0, y0, x1, y1), _) in enumerate(boxes):
+            if k in framing:
+                continue
+            cx, cy = (x0 + x1) / 2.0, (y0 + y1) / 2.0
+            below = [h for i, (h, (a0, b0, a1, b1), _) in enumerate(boxes) if i not in framing
+                     and h < height - 3.0 and a0 <= cx <= a1 and b0 <= cy <= b1]
+            base = max(below, default=0.0)
+            size = np.array([x1 - x0, y1 - y0, height - base])
+            name, mismatch = _nearest(shapes, size)
+            single = FoundObject(name, (float(cx), float(cy), float(base + size[2] / 2.0)),
+                                 tuple(size.tolist()), mismatch)
+            stack = self._hidden_stack(single, base, y0, side_img, shapes, rings.get(k))
+            found.extend(stack or [single])
+        self._found = bool(found)
+        self._target = np.array([f.position for f in found]) if found else None
+        return found
+
+    def _read_full(self, cam: str, image: np.ndarray) -> np.ndarray:
+        """The whole image of camera ``cam``, read through a resource window."""
+        (w, h) = self.cameras[cam].size
+        win = self.resources.allocate(cam, (0, 0, w, h))
+        try:
+            return win.read(image)
+        finally:
+            self.resources.free(win)
+
+    def _hidden_stack(self, obj: FoundObject, base: float, front: float, side: np.ndarray,
+                      shapes: Mapping[str, Sequence[float]], ring=None
+                      ) -> list[FoundObject] | None:
+        """Two stacked blocks where the top view shows at most a thin ring of the lower one.
+
+        The column under the top face is then too tall for any shape. The side view
+        shows a crease line across the front at the seam; the lower block's width
+        comes from its front face there (or from the ring's outline), and the shape
+        database gives the pair that explains the column best.
+        """
+        sx, sy, sz = obj.size
+        if (obj.mismatch < STACK_MISMATCH_MM and ring is None) or not shapes:
+            return None
+        cam = self.cameras["side"]
+        cx, cy = obj.position[:2]
+        best = None
+        for top_name, (tx, ty, tz) in shapes.items():
+            if abs(tx - sx) + abs(ty - sy) > STACK_MISMATCH_MM:
+                continue
+            rest = sz - tz
+            seam = base + rest
+            if rest < 5.0 or not self._crease_at(cam, side, (cx, front, seam)):
+                continue
+            if ring is not None:  # the lower block's outline is the ring's
+                f0, g0, f1, g1 = self._footprint(ring, seam)
+                low_size = np.array([f1 - f0, g1 - g0, rest])
+                low_name, low_err = _nearest(shapes, low_size)
+                low_at = ((f0 + f1) / 2.0, (g0 + g1) / 2.0)
+            else:
+                width = self._width_at(cam, side, (cx, front, base + rest / 2.0))
+                if width is None:
+                    continue
+                fits = {n: abs(lx - width) + abs(lz - rest)
+                        for n, (lx, ly, lz) in shapes.items()
+                        if lx <= sx + 8.0 and ly <= sy + 8.0}  # wider: its top would show
+                if not fits:
+                    continue
+                low_name = min(fits, key=fits.get)
+                low_err = fits[low_name]
+                low_size = np.array([width, shapes[low_name][1], rest])
+                low_at = (cx, cy)
+            err = abs(tx - sx) + abs(ty - sy) + low_err
+            if best is None or err < best[0]:
+                best = (err, top_name, tz, low_name, low_size, low_at, seam)
+        if best is None or (ring is None and best[0] >= obj.mismatch):
+            return None
+        err, top_name, tz, low_name, low_size, low_at, seam = best
+        return [FoundObject(low_name, (float(low_at[0]), float(low_at[1]), base + low_size[2] / 2),
+                            tuple(float(v) for v in low_size), err),
+                FoundObject(top_name, (cx, cy, seam + tz / 2.0), (sx, sy, base + sz - seam), err)]
+
+    @staticmethod
+    def _crease_at(cam, side: np.ndarray, point) -> bool:
+        """Whether the side view has a crease line (a seam) at ``point``, within a pixel."""
+        u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
+        column = side[max(0, v - 1):v + 2, u]
+        return bool(((column > DARK_MAX) & (column <= CREASE_MAX)).any())
+
+    @staticmethod
+    def _width_at(cam, side: np.ndarray, point) -> float | None:
+        """Width (mm) of the front face (-y, drawn at 170) through ``point``, on y = point.
+
+        Its edges run through the crease pixels that bound the run of face pixels."""
+        u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
+        row = (side[v] >= FRONT_BAND[0]) & (side[v] <= FRONT_BAND[1])
+        if not row[u]:
+            return None
+        left, right = u, u
+        while left > 0 and row[left - 1]:
+            left -= 1
+        while right + 1 < len(row) and row[right + 1]:
+            right += 1
+        ends = [cam.point_on_plane((x, float(v)), 1, point[1])[0]
+                for x in (left - 1.0, right + 1.0)]
+        return float(ends[1] - ends[0])
+
+    def _top_faces(self, top: np.ndarray) -> list[tuple[float, float, float, float]]:
+        """Top faces in the top view: their pixel rectangles (x0, y0, x1, y1)."""
+        w, h = self.cameras["top"].size
+        coarse_win = self.resources.allocate("top", (0, 0, w, h), step=COARSE)
+        try:
+            coarse = (coarse_win.read(top) > DARK_MAX).astype(np.uint8)
+        finally:
+            self.resources.free(coarse_win)
+        n, _, stats, _ = cv2.connectedComponentsWithStats(coarse, connectivity=8)
+        rects = []
+        for i in range(1, n):
+            x, y, bw, bh = stats[i, :4]
+            rect = (max(0, (x - 1) * COARSE), max(0, (y - 1) * COARSE),
+                    min(w, (x + bw + 1) * COARSE), min(h, (y + bh + 1) * COARSE))
+            fine = self.resources.allocate("top", rect)
+            try:
+                face = (fine.read(top) >= TOP_MIN).astype(np.uint8)
+            finally:
+                self.resources.free(fine)
+            m, _, fst, _ = cv2.connectedComponentsWithStats(face, connectivity=4)
+            fh_, fw_ = face.shape
+            for j in range(1, m):
+                fx, fy, fw, fh, area = fst[j]
+                # The window reaches a coarse step past its blob: a face cut by its
+                # border is a neighbouring blob's, found whole in that blob's window.
+                cut = (fx == 0 and fine.x0 > 0) or (fy == 0 and fine.y0 > 0) or \
+                    (fx + fw == fw_ and fine.x0 + fw_ < w) or (fy + fh == fh_ and fine.y0 + fh_ < h)
+                if area >= MIN_FACE_PX and not cut:
+                    # Pixel centres are at integer coordinates. The crease line is drawn
+                    # on the face outline, so the edge runs through the crease pixels
+                    # just outside the bright face.
+                    rect = (fine.x0 + fx - 1.0, fine.y0 + fy - 1.0,
+                            fine.x0 + fx + fw, fine.y0 + fy + fh)
+                    rects.append(rect)
+        return rects
+
+    def _footprint(self, rect, height: float) -> tuple[float, float, float, float]:
+        """World extents (x0, y0, x1, y1) of a top-face pixel rectangle at ``height``."""
+        cam = self.cameras["top"]
+        pts = np.array([cam.point_on_plane_z((u, v), height)[:2]
+                         for u in (rect[0], rect[2]) for v in (rect[1], rect[3])])
+        return (float(pts[:, 0].min()), float(pts[:, 1].min()),
+                float(pts[:, 0].max()), float(pts[:, 1].max()))
+
+    def _heights(self, rect, labels: np.ndarray, areas: np.ndarray, solid: np.ndarray
+                 ) -> list[tuple[float, float, int]]:
+        """Candidate heights of a top face: (score, h, side face label), best few first.
+
+        Lifted to the right height h, the face's footprint projects onto one
+        side-view top-face region and covers it (high intersection over union);
+        lifted elsewhere it falls on a front face, on the background, on a part
+        of some larger face, or on the top face of a block in front of it. The
+        column under the footprint down to the table must also look solid in
+        the side view (the face is supported).
+        """
+        cam = self.cameras["side"]
+
+        def ious(h: float) -> np.ndarray | None:
+            """IoU of the lifted footprint with every side top face, times the solid part."""
+            x0, y0, x1, y1 = self._footprint(rect, h)
+            quad = np.array([[x0, y0, h], [x1, y0, h], [x1, y1, h], [x0, y1, h]])
+            uv = cam.project(quad)
+            ox, oy = np.floor(uv.min(axis=0)).astype(int) - 1
+            ex, ey = np.ceil(uv.max(axis=0)).astype(int) + 2
+            if ox < 0 or oy < 0 or ex > labels.shape[1] or ey > labels.shape[0]:
+                return None
+            mask = np.zeros((ey - oy, ex - ox), np.uint8)
+            cv2.fillConvexPoly(mask, np.rint((uv - (ox, oy)) * 16).astype(np.int32), 1,
+                               cv2.LINE_8, 4)
+            under = labels[oy:ey, ox:ex][mask > 0]
+            counts = np.bincount(under, minlength=len(areas)).astype(float)
+            counts[0] = 0.0
+            if not counts.any():
+                return None
+            iou = counts / (len(under) + areas - counts)
+            return iou * self._solid_fraction(rect, h, solid)
+
+        best: dict[int, tuple[float, float]] = {}  # label -> (score, h) on the coarse grid
+        for h in np.arange(1.0, 300.0, 2.0):
+            sc = ious(h)
+            if sc is None:
+                continue
+            for lab in np.flatnonzero(sc >= MIN_SCORE):
+                if sc[lab] > best.get(lab, (0.0, 0.0))[0]:
+                    best[int(lab)] = (float(sc[lab]), float(h))
+        out = []
+        for lab, (sc0, h0) in sorted(best.items(), key=lambda kv: -kv[1][0])[:CANDIDATES]:
+            fine = []
+            for h in np.arange(h0 - 2.0, h0 + 2.01, 0.25):
+                sc = ious(h)
+                fine.append((float(sc[lab]) if sc is not None else 0.0, float(h)))
+            top = max(fine)[0]
+            hits = [h for s, h in fine if s >= top - 1e-9]
+            out.append((max(sc0, top), float(np.mean(hits)), lab))
+        return sorted(out, reverse=True)
+
+    def _height_from_silhouette(self, rect, blobs: np.ndarray, areas: np.ndarray
+                                ) -> tuple[float, float]:
+        """Height whose box [footprint] x [0, h] best covers a side-view silhouette (IoU)."""
+
+        def score(h: float) -> float:
+            """IoU of the column's side image with the silhouette it overlaps most."""
+            hull = self._column_hull(rect, h, blobs.shape)
+            if hull is None:
+                return 0.0
+            (ox, oy), mask = hull
+            under = blobs[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][mask > 0]
+            counts = np.bincount(under, minlength=2)
+            counts[0] = 0
+            best = int(counts.argmax())
+            return counts[best] / float(len(under) + areas[best] - counts[best])
+
+        coarse = [(score(h), h) for h in np.arange(1.0, 300.0, 2.0)]
+        best, h0 = max(coarse)
+        fine = [(score(h), h) for h in np.arange(h0 - 2.0, h0 + 2.01, 0.25)]
+        top_score = max(fine)[0]
+        hits = [h for sc, h in fine if sc >= top_score - 1e-9]
+        return float(np.mean(hits)), max(best, top_score)
+
+    def _column_hull(self, rect, h: float, shape) -> tuple[tuple[int, int], np.ndarray] | None:
+        """Side-view mask (origin, mask) of the box [footprint at h] x [0, h], if in view."""
+        x0, y0, x1, y1 = self._footprint(rect, h)
+        corners = np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1) for z in (0.0, h)])
+        uv = self.cameras["side"].project(corners)
+        ox, oy = np.floor(uv.min(axis=0)).astype(int)
+        ex, ey = np.ceil(uv.max(axis=0)).astype(int) + 1
+        if ox < 0 or oy < 0 or ex > shape[1] or ey > shape[0]:
+            return None
+        hull = cv2.convexHull(np.rint((uv - (ox, oy)) * 16).astype(np.int32))
+        mask = np.zeros((ey - oy, ex - ox), np.uint8)
+        cv2.fillConvexPoly(mask, hull, 1, cv2.LINE_8, 4)
+        return (ox, oy), mask
+
+    def _solid_fraction(self, rect, h: float, solid: np.ndarray) -> float:
+        """Fraction of the side-view image of the column [footprint] x [0, h] not dark."""
+        hull = self._column_hull(rect, h, solid.shape)
+        if hull is None:
+            return 0.0
+        (ox, oy), mask = hull
+        inside = mask > 0
+        n = int(inside.sum())
+        return float(solid[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][inside].sum()) / n \
+            if n else 0.0
+
+
+def _frames(outer, inner, tol: float = 1.5) -> bool:
+    """Whether pixel rectangle ``outer`` encloses ``inner`` (and is larger)."""
+    area = (outer[2] - outer[0]) * (outer[3] - outer[1])
+    return (outer[0] <= inner[0] + tol and outer[1] <= inner[1] + tol and
+            outer[2] >= inner[2] - tol and outer[3] >= inner[3] - tol and
+            area > (inner[2] - inner[0]) * (inner[3] - inner[1]))
+
+
+def _nearest(shapes: Mapping[str, Sequence[float]], size: np.ndarray) -> tuple[str, float]:
+    """The database shape whose size is closest to ``size`` (summed absolute error)."""
+    if not shapes:
+        return "unknown", float("inf")
+    errs = {name: float(np.abs(np.asarray(s, float) - size).sum()) for name, s in shapes.items()}
+    name = min(errs, key=errs.get)
+    return name, errs[name]

@@ -1,0 +1,266 @@
+"""The human demonstrator: a scenario's steps as continuous, human-like hand motion.
+
+The hand's targets follow a schedule of segments planned once from the
+scenario (symbolic layout, ``perception.world.layout``) and its seed:
+
+| phase     | motion (paper)            | profile                                      |
+|-----------|---------------------------|----------------------------------------------|
+| transfer  | Transfer (Sec. IV-B)      | fast (~250 mm/s x speed factor), arcing high |
+| approach  | LocalMotion / Approach    | slow descent, 10-50 mm/s, slightly slanted   |
+| fine      | FineMotion                | grasp / release / touch / align slide        |
+| depart    | LocalMotion / Depart      | slow rise, then the next transfer            |
+| pause     | hesitation                | the hand stays (tremor only)                 |
+
+Every motion is minimum-jerk with its own random speed factor in
+``noise.speed``; tremor (``noise.tremor`` mm) is a smooth sum of sinusoids,
+quieter during fine motions. The approach starts at most ~160 mm above the
+target's top so the recognizer's visual search (45 mm regions stepped down at
+most 4 times, Sec. III-E) can find it. Nothing in the frames marks a segment:
+the schedule is only for ground truth (``perception.world.groundtruth``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from perception.world.hand import Gripper, grasp_offset, pre_shape
+from perception.world.layout import Layout
+from perception.world.physics import World
+from perception.world.scene import Box
+
+Vec3 = tuple[float, float, float]
+
+V_FAST = 250.0  # mm/s, mean transfer speed (peak 1.875x for minimum jerk)
+V_APPROACH = 20.0  # mm/s, mean descent speed: peak stays under Table IV's V_H = 50
+V_DEPART = 22.0
+V_SLIDE = 12.0
+NEAR_LIMIT = 160.0  # mm: approach start above the target's top (visual search reach)
+ENTRY = (-480.0, 200.0, 230.0)  # off the table, where the hand comes from and goes to
+ABSENT = 1.0  # s without the hand at the start and the end (initial/final state views)
+MAX_Z = 285.0  # mm: the hand stays within the cameras' view (z <= 300)
+CONTACT_GAP = 0.3  # mm left between blocks after an align slide toward another block
+HOVER = -0.1  # mm: a placed block is let go just touching (the contact slop), no drop
+QUIET = 0.1  # tremor scale during fine motions: the fingers do not shake blocks into others
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One planned hand motion: from p0 at t0 to p1 at t1 (minimum jerk, plus an arc)."""
+
+    phase: str  # transfer | approach | fine | depart | pause | absent
+    step: int  # demonstration step index; -1 for entering/leaving
+    t0: float
+    t1: float
+    p0: Vec3
+    p1: Vec3
+    arc: float = 0.0  # mm added to z at mid-path (transfers go high over the table)
+    action: tuple = ()  # ("open", width) | ("close",) | ("present", bool), at t0
+    quiet: bool = False  # tremor reduced (fine motions)
+    lateral: str = ""  # "early": sideways part done first (approach), "late": last (depart)
+
+
+def min_jerk(tau: float) -> float:
+    """Minimum-jerk position profile s(tau) on [0, 1] (zero end velocity and acceleration)."""
+    tau = 0.0 if tau < 0 else 1.0 if tau > 1 else tau
+    return tau * tau * tau * (10 - 15 * tau + 6 * tau * tau)
+
+
+def _add(p: Vec3, d: Vec3) -> Vec3:
+    """Vector sum."""
+    return (p[0] + d[0], p[1] + d[1], p[2] + d[2])
+
+
+class _Planner:
+    """Builds the segment list for one scenario (all randomness from its seed)."""
+
+    def __init__(self, scenario, rng: np.random.Generator) -> None:
+        """Start with the hand absent, then entering from ENTRY."""
+        self.sc, self.rng = scenario, rng
+        self.t, self.p = ABSENT, ENTRY
+        self.segs: list[Segment] = [Segment("absent", -1, 0.0, ABSENT, ENTRY, ENTRY)]
+        self.pending: tuple = ("present", True)
+
+    def factor(self) -> float:
+        """Random speed factor of one motion (noise.speed)."""
+        lo, hi = self.sc.noise.speed
+        return float(self.rng.uniform(lo, hi))
+
+    def add(self, phase: str, step: int, p1: Vec3, duration: float, arc: float = 0.0,
+            action: tuple = (), quiet: bool = False) -> None:
+        """Append a segment from the current point to ``p1``."""
+        if self.pending:
+            action, self.pending = self.pending + action, ()
+        # The slant of an approach is taken out early (and put into a depart
+        # late) so a held block comes down vertically beside its neighbours.
+        lateral = {"approach": "early", "depart": "late"}.get(phase, "")
+        self.segs.append(Segment(phase, step, self.t, self.t + duration, self.p, p1, arc,
+                                 action, quiet, lateral))
+        self.t += duration
+        self.p = p1
+
+    def move(self, phase: str, step: int, p1: Vec3, speed: float, action: tuple = (),
+             quiet: bool = False, minimum: float = 0.6) -> None:
+        """A straight minimum-jerk motion at a mean speed scaled by a random factor."""
+        dist = math.dist(self.p, p1)
+        self.add(phase, step, p1, max(minimum, dist / (speed * self.factor())), 0.0, action,
+                 quiet)
+
+    def transfer(self, step: int, p1: Vec3, top: float, action: tuple = ()) -> None:
+        """A fast arcing move high over the table (Transfer)."""
+        cruise = min(280.0, max(200.0, top + 90.0))
+        arc = max(0.0, cruise - max(self.p[2], p1[2]))
+        horizontal = math.dist(self.p[:2], p1[:2])
+        length = horizontal + 2 * arc + abs(self.p[2] - p1[2])
+        self.add("transfer", step, p1, max(1.0, length / (V_FAST * self.factor())), arc, action)
+
+    def hesitate(self, step: int, chance: float = 0.5) -> None:
+        """Sometimes stay still for a short while (a human hesitation)."""
+        if self.rng.random() < chance:
+            self.add("pause", step, self.p, float(self.rng.uniform(0.15, 0.5)), quiet=True)
+
+    def lateral(self, lo: float, hi: float) -> Vec3:
+        """A random horizontal offset of lo..hi mm (approach not exactly vertical)."""
+        r, a = self.rng.uniform(lo, hi), self.rng.uniform(0, 2 * math.pi)
+        return (float(r * math.cos(a)), float(r * math.sin(a)), 0.0)
+
+    def local(self, step: int, grip: Vec3, target_top: float, scene_top: float,
+              pre: tuple, fine: list[tuple]) -> None:
+        """Transfer above the target, descend to ``grip``, do the fine motions, rise."""
+        rise = min(float(self.rng.uniform(100, 140)), NEAR_LIMIT - (grip[2] - target_top),
+                   MAX_Z - grip[2])
+        above = _add(grip, _add(self.lateral(8, 20), (0, 0, rise)))
+        self.transfer(step, above, scene_top, pre)
+        self.hesitate(step)
+        self.move("approach", step, grip, V_APPROACH)
+        for phase, p1, speed, action, minimum in fine:
+            self.move(phase, step, p1, speed, action, quiet=True, minimum=minimum)
+        self.hesitate(step)
+        leave = _add(self.p, _add(self.lateral(5, 15), (0, 0, float(self.rng.uniform(90, 120)))))
+        self.move("depart", step, leave, V_DEPART)
+
+    def plan(self) -> list[Segment]:
+        """Segments for the whole demonstration."""
+        lay = self.sc.teach.layout()
+        held_dz = 0.0
+        for i, step in enumerate(self.sc.demonstration):
+            size = lay.size[step.obj]
+            top = _scene_top(lay)
+            if step.kind in ("pick", "touch"):
+                c = lay.center[step.obj]
+                grip = _add(c, (0, 0, grasp_offset(size)))
+                fine = [("fine", grip, 1.0, ("close",) if step.kind == "pick" else (), 0.6)]
+                self.local(i, grip, c[2] + size[2] / 2, top, ("open", pre_shape(size)), fine)
+                held_dz = grasp_offset(size)
+            else:
+                grip = _add(step.dest, (0, 0, held_dz + HOVER))
+                support_top = step.dest[2] - size[2] / 2
+                carried = top + size[2] + 20.0
+                fine = []
+                if step.align is not None:
+                    for point in _slide_path(lay, step):
+                        fine.append(("fine", _add(point, (0, 0, held_dz + HOVER)), V_SLIDE, (),
+                                     0.5))
+                fine.append(("fine", fine[-1][1] if fine else grip, 1.0,
+                             ("open", pre_shape(size)), 0.6))
+                self.local(i, grip, support_top, carried, (), fine)
+            lay = self.sc.states[i]
+        exit_point = (math.copysign(480.0, self.p[0] or 1.0), self.p[1], 230.0)
+        self.transfer(-1, exit_point, _scene_top(lay))
+        self.add("absent", -1, exit_point, ABSENT, action=("present", False))
+        return self.segs
+
+
+def _scene_top(lay: Layout) -> float:
+    """Height of the tallest box top (mm)."""
+    return max((c[2] + lay.size[n][2] / 2 for n, c in lay.center.items()), default=0.0)
+
+
+def _slide_path(lay: Layout, step) -> list[Vec3]:
+    """Align slide (Sec. V-B5): into contact with ``with``, then along it until coplanar."""
+    final, dest = step.final, step.dest
+    w = lay.center[step.align.with_]
+    contact_axis = 0 if step.align.face in ("north", "south") else 1
+    side = 1.0 if final[contact_axis] >= w[contact_axis] else -1.0
+    touching = list(dest)
+    touching[contact_axis] = final[contact_axis] + side * CONTACT_GAP
+    last = list(final)
+    last[contact_axis] = touching[contact_axis]
+    return [tuple(touching), tuple(last)]
+
+
+class Demonstration:
+    """Iterate ``(t, scene)`` per frame of a scenario's demonstration (physics between frames)."""
+
+    def __init__(self, scenario, fps: float = 30.0, substeps: int = 4) -> None:
+        """Plan the hand's motion and build the teaching world."""
+        self.scenario, self.fps = scenario, float(fps)
+        rng = np.random.default_rng(scenario.seed)
+        self.segments: list[Segment] = _Planner(scenario, rng).plan()
+        self.duration = self.segments[-1].t1
+        self.n_frames = int(math.floor(self.duration * self.fps)) + 1
+        self.world = World(scenario.teach.objects.values(), substeps=substeps)
+        self.hand: Gripper = self.world.add_gripper(Gripper(ENTRY, opening=60.0))
+        self.hand.present = False
+        amp = scenario.noise.tremor * math.sqrt(2.0 / 3.0)  # 3 sinusoids per axis: std = tremor
+        self._tremor = [(amp, rng.uniform(0.4, 1.5, 3) * 2 * math.pi, rng.uniform(0, 6.3, 3))
+                        for _ in range(3)]
+
+    def target(self, t: float) -> tuple[Vec3, Segment]:
+        """Planned hand position at time ``t`` (with tremor) and its segment."""
+        seg = self._segment(t)
+        d = seg.t1 - seg.t0
+        s = min_jerk((t - seg.t0) / d) if d > 0 else 1.0
+        sl = s if not seg.lateral else 1 - (1 - s) ** 3 if seg.lateral == "early" else s ** 3
+        p0, p1 = seg.p0, seg.p1
+        p = [p0[0] + (p1[0] - p0[0]) * sl, p0[1] + (p1[1] - p0[1]) * sl,
+             p0[2] + (p1[2] - p0[2]) * s + seg.arc * math.sin(math.pi * s)]
+        scale = QUIET if seg.quiet else 1.0
+        if seg.phase in ("approach", "depart"):
+            # fade towards the fine motion so the tremor does not jump at its ends
+            u = s if seg.phase == "depart" else 1.0 - s
+            scale = QUIET + (1 - QUIET) * min(1.0, 3.0 * u)
+        for axis, (amp, w, ph) in enumerate(self._tremor):
+            p[axis] += scale * amp * sum(math.sin(w[k] * t + ph[k]) for k in range(3))
+        return (p[0], p[1], p[2]), seg
+
+    def _segment(self, t: float) -> Segment:
+        """The segment running at ``t`` (the last one after the end)."""
+        i = self._cursor
+        while i + 1 < len(self.segments) and self.segments[i].t1 <= t:
+            i += 1
+        self._cursor = i
+        return self.segments[i]
+
+    def __iter__(self) -> Iterator[tuple[float, list[Box]]]:
+        """Frames in time order: (t seconds, scene)."""
+        self._cursor = 0
+        started = 0
+        dt = 1.0 / self.fps
+        for i in range(self.n_frames):
+            t = i * dt
+            while started < len(self.segments) and self.segments[started].t0 <= t:
+                self._act(self.segments[started].action)
+                started += 1
+            if i:
+                pos, _ = self.target(t)
+                self.hand.move_to(pos)
+                self.world.step(dt)
+            yield t, self.world.scene()
+
+    def _act(self, action: tuple) -> None:
+        """Run a segment's hand actions (open/close/appear/disappear)."""
+        k = 0
+        while k < len(action):
+            if action[k] == "open":
+                self.hand.open(action[k + 1])
+                k += 2
+            elif action[k] == "close":
+                self.hand.close()
+                k += 1
+            else:  # "present": the hand comes into / goes out of the workspace
+                self.hand.present = action[k + 1]
+                k += 2

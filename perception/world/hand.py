@@ -1,0 +1,207 @@
+"""A two-finger gripper driven by position targets: the human hand, later the robot's jaw.
+
+The gripper lives in the world's x-z pymunk plane as kinematic bodies: a grip
+frame (no shape) and two fingers (boxes) that open and close along x. Its y is
+kinematic (the world keeps it outside pymunk). When closing, the fingers stop
+as soon as both touch the same block; the block is then attached to the grip
+frame by a PivotJoint + GearJoint with a finite maximum force, so a heavy or
+badly grasped block can slip. Blocks resting on the held block ride along by
+friction only (design.md; the plank of Fig. 14).
+
+Coordinates: ``position`` is the grip centre, midway between the fingers'
+inner faces, ``TIP`` mm above the fingertips; the palm sits above the fingers.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import pymunk
+
+from perception.world.scene import Box
+
+# The velocity property's own setter: pymunk bodies route every attribute assignment
+# through a Python-level __setattr__ (a typing helper that only calls object's); the
+# gripper sets three velocities per physics substep.
+_set_velocity = pymunk.Body.velocity.fset
+
+Vec3 = tuple[float, float, float]
+
+TIP = 10.0  # mm the fingers reach below the grip centre
+CONTACT = 1.0  # mm: a finger this close to a block's side touches it
+CLEARANCE = 12.0  # mm per side the demonstrator leaves when pre-shaping the hand
+
+
+@dataclass(frozen=True)
+class GripperGeometry:
+    """Sizes in mm; the HandLoc prism of Table II is about 50 x 50 x 45."""
+
+    finger: tuple[float, float, float] = (10.0, 20.0, 50.0)  # x thickness, y depth, z length
+    palm: tuple[float, float, float] = (50.0, 50.0, 30.0)
+    max_opening: float = 220.0  # inner gap; shapes are at most 200 mm wide
+    close_speed: float = 100.0  # mm/s, finger gap change rate
+    grip_strength: float = 25.0  # joint max force, in multiples of the carried weight
+
+
+def grasp_offset(size: Vec3) -> float:
+    """Height of the grip centre above a block's centre when grasping it.
+
+    High enough that the fingertips clear the block's support by 1 mm, and at
+    most 30 mm below the top so the palm stays above the block.
+    """
+    h = size[2]
+    return max(h / 2 - min(h / 2, 30.0), TIP + 1.0 - h / 2)
+
+
+def pre_shape(size: Vec3, geometry: GripperGeometry | None = None) -> float:
+    """Finger opening used when approaching a block of this size."""
+    g = geometry or GripperGeometry()
+    return min(g.max_opening, size[0] + 2 * CLEARANCE)
+
+
+class Gripper:
+    """Kinematic two-finger gripper; call ``move_to``/``open``/``close``, the world steps it."""
+
+    def __init__(self, position: Vec3, opening: float = 60.0, kind: str = "hand",
+                 geometry: GripperGeometry | None = None, max_speed: float = math.inf) -> None:
+        """Create the gripper at ``position`` (add it to a World with ``World.add_gripper``)."""
+        self.geometry = g = geometry or GripperGeometry()
+        self.kind = kind
+        self.max_speed = max_speed  # mm/s; inf = reach each target within one world step
+        self.present = True  # an absent gripper is left out of the scene (not in view)
+        self.body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        self.body.position = (position[0], position[2])
+        self.y = float(position[1])
+        self.target: Vec3 = tuple(map(float, position))
+        self.opening = self.target_opening = min(opening, g.max_opening)
+        self.fingers = []
+        for side in (-1, 1):
+            body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+            shape = pymunk.Poly.create_box(body, (g.finger[0], g.finger[2]))
+            shape.friction = 0.8
+            shape.side = side
+            self.fingers.append((side, body, shape))
+        self._place_fingers(0.0)
+        self.holding: str | None = None
+        self.riders: dict[str, float] = {}  # name -> y offset from the grip
+        self._joints: list[pymunk.Constraint] = []
+        self._hold_dy = 0.0
+        self._closing = False
+
+    # -- commands -------------------------------------------------------------
+    def move_to(self, xyz: Vec3) -> None:
+        """Set the grip centre's target position (mm, world frame)."""
+        self.target = (float(xyz[0]), float(xyz[1]), float(xyz[2]))
+
+    def open(self, width: float | None = None) -> None:
+        """Open to ``width`` mm (default: fully); releases any held block at once."""
+        self.target_opening = min(self.geometry.max_opening,
+                                  self.geometry.max_opening if width is None else width)
+        self._closing = False
+        self.world_release()
+
+    def close(self) -> None:
+        """Close the fingers until both touch a block (grasp) or they meet."""
+        self._closing = True
+        self.target_opening = 0.0
+
+    # -- state ----------------------------------------------------------------
+    @property
+    def position(self) -> Vec3:
+        """Current grip centre (mm)."""
+        x, z = self.body.position
+        return (x, self.y, z)
+
+    @property
+    def settled(self) -> bool:
+        """Has the gripper reached its position target and finished opening/closing?"""
+        p = self.position
+        near = math.dist(p, self.target) < 0.5
+        return near and (not self._closing) and abs(self.opening - self.target_opening) < 0.5
+
+    def boxes(self) -> list[Box]:
+        """Palm and fingers as scene boxes."""
+        g = self.geometry
+        x, y, z = self.position
+        fz = z - TIP + g.finger[2] / 2
+        out = [Box(self.kind, (x, y, z - TIP + g.finger[2] + g.palm[2] / 2), g.palm, 0.0, "palm")]
+        for side, body, _ in self.fingers:
+            out.append(Box(self.kind, (body.position[0], y, fz), g.finger, 0.0,
+                           "finger-" + ("left" if side < 0 else "right")))
+        return out
+
+    # -- world side -------------------------------------------------------------
+    def attach(self, world) -> None:
+        """Called by World.add_gripper: add the bodies to its space."""
+        self.world = world
+        world.space.add(self.body)
+        for _, body, shape in self.fingers:
+            world.space.add(body, shape)
+
+    def _finger_x(self, side: int, opening: float) -> float:
+        """Centre x of a finger for a given opening."""
+        return self.body.position[0] + side * (opening + self.geometry.finger[0]) / 2
+
+    def _place_fingers(self, dt: float, state: tuple[float, float, float, float] | None = None
+                       ) -> None:
+        """Give the fingers the velocity that brings them to the current opening.
+
+        ``state`` = the hand body's (x, z, vx, vz) when the caller has just read and set
+        them (each pymunk property access builds a Vec2d; this runs every substep)."""
+        if state is None:
+            hx, hz = self.body.position
+            vx, vz = self.body.velocity
+        else:
+            hx, hz, vx, vz = state
+        fz = hz - TIP + self.geometry.finger[2] / 2
+        for side, body, _ in self.fingers:
+            want = hx + vx * dt + side * (self.opening + self.geometry.finger[0]) / 2
+            if dt > 0:
+                _set_velocity(body, ((want - body.position[0]) / dt, vz))
+            else:
+                body.position = (want, fz)
+                body.velocity = (0.0, 0.0)
+
+    def substep(self, start: Vec3, end: Vec3, frac: float, dt: float) -> None:
+        """Set velocities for one physics substep toward the interpolated target."""
+        x0, _, z0 = start
+        tx = x0 + (end[0] - x0) * frac
+        tz = z0 + (end[2] - z0) * frac
+        px, pz = self.body.position
+        vx, vz = (tx - px) / dt, (tz - pz) / dt
+        speed = math.hypot(vx, vz)
+        if speed > self.max_speed:
+            vx, vz = vx * self.max_speed / speed, vz * self.max_speed / speed
+        _set_velocity(self.body, (vx, vz))
+        if self.opening != self.target_opening:
+            step = self.geometry.close_speed * dt
+            d = self.target_opening - self.opening
+            self.opening += max(-step, min(step, d))
+            if self._closing:
+                self._check_grasp()
+        self._place_fingers(dt, (px, pz, vx, vz))
+
+    def _check_grasp(self) -> None:
+        """Stop closing when both fingers touch one block, and hold it."""
+        if self.opening <= 0.0:
+            self._closing = False  # closed on nothing
+            return
+        hx = self.body.position[0]
+        left, right = hx - self.opening / 2, hx + self.opening / 2
+        name = self.world.between(self, left, right)
+        if name is None:
+            return
+        bb = self.world.shapes[name].bb
+        if bb.left - left <= CONTACT and right - bb.right <= CONTACT:
+            self._closing = False
+            self.target_opening = self.opening
+            self.world.grasp(self, name)
+
+    def world_release(self) -> None:
+        """Drop the held block (remove the grasp joints)."""
+        if self._joints:
+            self.world.space.remove(*self._joints)
+        self._joints = []
+        self.holding = None
+        self.riders = {}
