@@ -149,9 +149,10 @@ def synthetic_task(achieves: int) -> dict[str, Any]:
 
 def run_once(achieves: int) -> dict[str, float]:
     """Analyse one synthetic task; return the timings in seconds."""
-    from lbw_engine.understand import RelationTable, analyze, load_rules, parse_actions
+    from lbw_engine.rules import load_rules
+    from lbw_engine.understand import RelationTable, analyze, parse_actions
 
-    rules = load_rules()
+    rules = load_rules().analysis
     doc = synthetic_task(achieves)
     t0 = time.perf_counter()
     seq = parse_actions(doc, RelationTable(rules.tolerance), "<synthetic>")

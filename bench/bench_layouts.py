@@ -18,8 +18,8 @@ import numpy as np
 import yaml
 
 from lbw_engine.do import plan as planmod
-from lbw_engine.paths import bundled_scenario, default_rules_dir
-from lbw_engine.rules import commands as commandrules
+from lbw_engine.paths import bundled_scenario
+from lbw_engine.rules import load_rules
 from lbw_engine.yamlio import load_file
 
 SCENARIOS = ("build-table", "inverted-arch")
@@ -75,7 +75,7 @@ def sweep(name: str, count: int, first_seed: int = 1) -> dict[str, Any]:
     if learned.plan is None:
         return {"scenario": name, "learned": False, "failure": learned.failure}
     plan = planmod.parse(learned.plan, file="plan.json")
-    crules = commandrules.load_dir(default_rules_dir())
+    crules = load_rules().commands
     scenario = load(path)
     failures, commands, seconds = [], [], []
     for seed in range(first_seed, first_seed + count):

@@ -62,13 +62,10 @@ _RULES: dict[Any, tuple] = {}
 def _rules(rules_dir: str | None) -> tuple:
     """Recognition, analysis and command rules, loaded once per worker process."""
     if rules_dir not in _RULES:
-        from lbw_engine.rules import commands as commandrules
         from lbw_engine.rules import load_rules
-        from lbw_engine.understand import load_rules as load_analysis_rules
 
         rules = load_rules(rules_dir)
-        _RULES[rules_dir] = (rules, load_analysis_rules(rules.directory),
-                             commandrules.load_dir(rules.directory))
+        _RULES[rules_dir] = (rules, rules.analysis, rules.commands)
     return _RULES[rules_dir]
 
 

@@ -26,8 +26,7 @@ from lbw_engine.do.tracing import Trace, format_commands, trace
 from lbw_engine.do.verification import ObjectState, verify
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.outputs import OutputDir
-from lbw_engine.paths import default_rules_dir
-from lbw_engine.rules import commands as commandrules
+from lbw_engine.rules import load_rules
 from lbw_engine.rules.commands import CommandRules
 
 HELP = "Instantiate a plan in the scenario's execution workspace, run it with the robot, verify."
@@ -46,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the command; see the module docstring."""
     from perception.world import scenario as scenario_mod
 
-    rules = commandrules.load_dir(args.rules or default_rules_dir())
+    rules = load_rules(args.rules).commands
     plan = planmod.load(args.plan)
     sc = scenario_mod.load(args.scenario)
     with OutputDir(args.out) as out:

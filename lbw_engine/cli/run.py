@@ -27,11 +27,9 @@ from lbw_engine.cli.watch import watch
 from lbw_engine.do import plan as planmod
 from lbw_engine.errors import InputError
 from lbw_engine.outputs import OutputDir
-from lbw_engine.rules import commands as commandrules
 from lbw_engine.rules import load_rules
 from lbw_engine.see.actions import to_actions
 from lbw_engine.understand import RelationTable, analyze, parse_actions, write_plan_text
-from lbw_engine.understand import load_rules as load_analysis_rules
 
 HELP = "watch a demonstration, learn its plan, execute it in the new layout and verify"
 
@@ -106,8 +104,7 @@ def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30
     from lbw_engine.cli.execute import execute_plan
 
     rules = load_rules(rules_dir)
-    arules = load_analysis_rules(rules.directory)
-    crules = commandrules.load_dir(rules.directory)
+    arules, crules = rules.analysis, rules.commands
     clock = time.perf_counter()
     if watcher is None:
         recognizer, _ = watch(scenario, rules, fps=fps)

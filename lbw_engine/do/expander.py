@@ -88,7 +88,7 @@ class Expander:
             return ctx.goal
         if name == "hand-pos":
             return self.model.hand
-        if name == "approach":
+        if name == "approach-height":
             return self.rules.approach_height
         if name == "open-width":
             return ctx.width

@@ -1,20 +1,22 @@
 """rules/analysis.yaml: the data plan analysis runs on, checked when loaded.
 
 The file names the template grammar (Fig. 15) and the table from its rule names
-to operator classes, the object roles the focused-object formulas need (agents,
-fixed objects), the position tolerance of relation equality and the order of the
-dependency closure searches (Sec. VI-C2). See docs/analysis.md.
+to operator classes, the position tolerance of relation equality and the order
+of the dependency closure searches (Sec. VI-C2). The agent (the hand) and the
+fixed object (the table) are design.md's reserved names (lbw_engine.names).
+See docs/analysis.md.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
-from lbw_engine import yamlio
 from lbw_engine.errors import InputError
-from lbw_engine.paths import default_rules_dir
+from lbw_engine.names import HAND, TABLE
+from lbw_engine.rules.grammars import Templates, compile_plot, compile_templates
+from lbw_engine.rules.reader import Reader
+from lbw_engine.yamlio import line_of
 
 # The operator classes of plan.json (design.md); Sec. VI-A3 gives them a priori.
 PLAN_CLASSES = ("BUILD", "PACHIEVE", "ACHIEVE", "FETCH", "PUT", "FAKE")
@@ -34,123 +36,64 @@ class AnalysisRules:
     removed: frozenset[str]  # grammar rules whose match is dropped
     trailing: frozenset[str]  # operations dropped where they end the demonstration
     plot_grammar_file: Path
-    agents: frozenset[str]
-    fixed: frozenset[str]
     tolerance: float
     passes: tuple[str, ...]
     closure_class: str
     protected_class: str
+    # design.md's reserved names: the hand is an agent (never focused, never protected),
+    # the table is fixed (never a base; Fig. 22 has it as a target).
+    agents: frozenset[str] = frozenset({HAND})
+    fixed: frozenset[str] = frozenset({TABLE})
+
+    def templates(self) -> Templates:
+        """The compiled template grammar (checked against this table when loaded)."""
+        return compile_templates(self.grammar_file, self.start)
 
 
-class _Checker:
-    """Small typed getters that fail with the file and line of the offending key."""
-
-    def __init__(self, file: Path) -> None:
-        self.file = file
-
-    def fail(self, message: str, container: Any, key: Any = None, where: str = "") -> None:
-        """Raise an InputError at ``container[key]``."""
-        raise InputError(
-            message, file=self.file, line=yamlio.line_of(container, key), where=where or None
-        )
-
-    def mapping(self, data: Any, key: str, where: str) -> dict:
-        """``data[key]`` is a mapping."""
-        if not isinstance(data, dict) or key not in data:
-            self.fail(f"missing the mapping {key!r}", data, where=where)
-        value = data[key]
-        if not isinstance(value, dict):
-            self.fail("must be a mapping", data, key, f"{where}.{key}".lstrip("."))
-        return value
-
-    def name(self, data: dict, key: str, where: str) -> str:
-        """``data[key]`` is a non-empty string."""
-        value = data.get(key)
-        if not isinstance(value, str) or not value:
-            self.fail(f"must be a name, got {value!r}", data, key, f"{where}.{key}".lstrip("."))
-        return value
-
-    def names(self, data: dict, key: str, where: str) -> list[str]:
-        """``data[key]`` is a list of names."""
-        value = data.get(key)
-        if not isinstance(value, list) or not all(isinstance(v, str) and v for v in value):
-            self.fail("must be a list of names", data, key, f"{where}.{key}".lstrip("."))
-        return list(value)
-
-    def known_keys(self, data: dict, allowed: tuple[str, ...], where: str) -> None:
-        """No key outside ``allowed`` (typos are errors, not silently ignored)."""
-        for key in data:
-            if key not in allowed:
-                self.fail(
-                    f"unknown key {key!r} (allowed: {', '.join(allowed)})",
-                    data,
-                    key,
-                    f"{where}.{key}".lstrip("."),
-                )
-
-    def choice(self, data: dict, key: str, allowed: tuple[str, ...], where: str) -> str:
-        """``data[key]`` is one of ``allowed``."""
-        value = self.name(data, key, where)
-        if value not in allowed:
-            self.fail(f"{value!r} is not one of {', '.join(allowed)}", data, key, f"{where}.{key}")
-        return value
-
-
-def load_rules(rules_dir: str | Path | None = None) -> AnalysisRules:
-    """Read and check ``analysis.yaml`` from ``rules_dir`` (default: the bundled rules)."""
-    rules_dir = Path(rules_dir) if rules_dir is not None else default_rules_dir()
+def parse(rules_dir: Path) -> AnalysisRules:
+    """Read and check ``analysis.yaml`` and the two grammars it names."""
     file = rules_dir / "analysis.yaml"
-    data = yamlio.load_file(file)
-    c = _Checker(file)
-    if not isinstance(data, dict):
-        c.fail("must be a mapping", data)
-    c.known_keys(
-        data, ("templates", "plot_grammar", "objects", "position_tolerance", "dependencies"), ""
-    )
-    tpl = c.mapping(data, "templates", "")
-    c.known_keys(tpl, ("grammar", "start", "operators", "removed", "trailing"), "templates")
-    ops = c.mapping(tpl, "operators", "templates")
+    rd, data = Reader.load(file, ("templates", "plot-grammar", "position-tolerance",
+                                  "dependencies"))
+    tpl = rd.mapping(data["templates"], "templates", data, "templates")
+    rd.keys(tpl, "templates", ("grammar", "start", "operators"), ("removed", "trailing"),
+            where="templates")
+    ops = rd.mapping(tpl["operators"], "templates.operators", tpl, "operators")
     for rule, cls in ops.items():
-        if cls not in PLAN_CLASSES:
-            c.fail(
-                f"class {cls!r} is not one of {', '.join(PLAN_CLASSES)}",
-                ops,
-                rule,
-                f"templates.operators.{rule}",
-            )
-    removed = c.names(tpl, "removed", "templates") if "removed" in tpl else []
+        rd.one_of(cls, PLAN_CLASSES, "operator class", ops, rule)
+    removed = rd.names(tpl, "removed", "templates.removed") if "removed" in tpl else ()
     for rule in removed:
         if rule in ops:
-            c.fail(f"rule {rule!r} is both an operator and removed", tpl, "removed", "templates")
-    objs = c.mapping(data, "objects", "")
-    c.known_keys(objs, ("agents", "fixed"), "objects")
-    tol = data.get("position_tolerance")
-    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or tol < 0:
-        c.fail("must be a number of mm >= 0", data, "position_tolerance", "position_tolerance")
-    dep = c.mapping(data, "dependencies", "")
-    c.known_keys(dep, ("passes", "closure_class", "protected_class"), "dependencies")
-    passes = c.names(dep, "passes", "dependencies")
-    for i, kind in enumerate(passes):
-        if kind not in RELATION_KINDS:
-            c.fail(
-                f"pass {kind!r} is not one of {', '.join(RELATION_KINDS)}",
-                dep["passes"],
-                i,
-                f"dependencies.passes[{i}]",
-            )
-    return AnalysisRules(
+            rd.fail(f"rule {rule!r} is both an operator and removed", tpl, "removed",
+                    "templates")
+    dep = rd.mapping(data["dependencies"], "dependencies", data, "dependencies")
+    rd.keys(dep, "dependencies", ("passes", "closure-class", "protected-class"),
+            where="dependencies")
+    passes = rd.names(dep, "passes", "dependencies.passes", RELATION_KINDS,
+                      "dependencies.passes")
+    rules = AnalysisRules(
         rules_dir=rules_dir,
         file=file,
-        grammar_file=rules_dir / c.name(tpl, "grammar", "templates"),
-        start=c.name(tpl, "start", "templates"),
+        grammar_file=rules_dir / rd.name(tpl, "grammar", "templates"),
+        start=rd.name(tpl, "start", "templates"),
         operators=dict(ops),
         removed=frozenset(removed),
-        trailing=frozenset(c.names(tpl, "trailing", "templates") if "trailing" in tpl else ()),
-        plot_grammar_file=rules_dir / c.name(data, "plot_grammar", ""),
-        agents=frozenset(c.names(objs, "agents", "objects")),
-        fixed=frozenset(c.names(objs, "fixed", "objects")),
-        tolerance=float(tol),
-        passes=tuple(passes),
-        closure_class=c.choice(dep, "closure_class", PLAN_CLASSES, "dependencies"),
-        protected_class=c.choice(dep, "protected_class", PLAN_CLASSES, "dependencies"),
+        trailing=frozenset(rd.names(tpl, "trailing", "templates.trailing")
+                           if "trailing" in tpl else ()),
+        plot_grammar_file=rules_dir / rd.name(data, "plot-grammar", "analysis"),
+        tolerance=rd.number(data, "position-tolerance", "position-tolerance", 0.0, 100.0),
+        passes=passes,
+        closure_class=rd.one_of(dep["closure-class"], PLAN_CLASSES, "class", dep,
+                                "closure-class"),
+        protected_class=rd.one_of(dep["protected-class"], PLAN_CLASSES, "class", dep,
+                                  "protected-class"),
     )
+    templates = rules.templates()
+    for rule in [*rules.operators, *rules.removed, rules.start]:
+        if rule not in templates.rules():
+            raise InputError(f"analysis.yaml names the rule {rule!r}, which "
+                             f"{rules.grammar_file.name} does not define", file=file,
+                             line=line_of(ops, rule) if rule in ops else line_of(tpl, "start"),
+                             where="templates")
+    compile_plot(rules.plot_grammar_file)
+    return rules

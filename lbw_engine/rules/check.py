@@ -2,12 +2,18 @@
 
 A row "can never fire" when its motion class is never instantiated, when no
 ATTN-node of that class ever waits for its event, or (Table V) when an earlier
-row already matches whenever it does (checked in ``rulefiles``).
+row already matches whenever it does (checked in ``recognition``). Operations
+named by the templates, the analysis table and the command expansions must be
+operations of Table V; events must ask what their detectors answer.
 """
 
 from __future__ import annotations
 
-from lbw_engine import rules as R
+from pathlib import Path
+
+from lbw_engine.errors import InputError
+from lbw_engine.rules import records as R
+from lbw_engine.rules.reader import listing
 
 
 def _keys_of(rules: R.RuleSet) -> set[str]:
@@ -136,3 +142,55 @@ def check(rules: R.RuleSet) -> None:
         if motion not in reachable:
             raise rows[0].at.error(f"this row can never fire: no transition creates {motion}")
     _check_effects(rules)
+
+
+def _line_naming(path: Path, word: str) -> int | None:
+    """First line of ``path`` that mentions ``word`` outside comments (for a message)."""
+    try:
+        for number, text in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if word in text and not text.lstrip().startswith(("#", "//")):
+                return number
+    except (OSError, UnicodeDecodeError):
+        return None
+    return None
+
+
+def check_named_operations(rules: R.RuleSet) -> None:
+    """Operations named by templates.lark, analysis.yaml and commands.yaml exist (Table V)."""
+    analysis, commands = rules.analysis, rules.commands
+    named = [
+        (analysis.templates().words(), analysis.grammar_file, "template", {}),
+        (set(analysis.trailing), analysis.file, "analysis table (templates.trailing)", {}),
+        (set(commands.operations), Path(commands.file), "command expansion",
+         {n: o.line for n, o in commands.operations.items()}),
+    ]
+    for words, path, what, lines in named:
+        for word in sorted(words - rules.operations):
+            raise InputError(
+                f"the {what} names operation {word!r}, which the recognizer's operations.yaml "
+                f"does not define (known: {listing(sorted(rules.operations))})",
+                file=path, line=lines.get(word) or _line_naming(path, word))
+
+
+def check_vocabulary(rules: R.RuleSet, vocabulary: dict[str, dict[str, frozenset]]) -> None:
+    """Every event asks its detector a method it answers; every snapshot-diff value maps
+    to an answer its detector gives (the detectors' closed vocabulary)."""
+    for event in rules.events.values():
+        spec = rules.detectors[event.detector]
+        if spec.builtin is not None:
+            continue
+        methods = vocabulary.get(event.detector, {}).get("methods", frozenset())
+        if event.method not in methods:
+            raise event.at.error(
+                f"event {event.name!r} asks {event.detector} for {event.method!r}, which it "
+                f"does not answer (it answers: {listing(sorted(methods)) or 'nothing'})")
+    for feature in rules.features.values():
+        if feature.source != "snapshot-diff":
+            continue
+        answers = vocabulary.get(feature.detector, {}).get("answers", frozenset())
+        for value, answer in feature.answers.items():
+            if answer not in answers:
+                shown = listing(sorted(map(str, answers))) or "nothing"
+                raise feature.at.error(
+                    f"feature {feature.name!r}: value {value!r} stands for {answer!r}, which "
+                    f"{feature.detector} never answers (it answers: {shown})")

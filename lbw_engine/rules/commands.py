@@ -1,22 +1,24 @@
 """rules/commands.yaml: Table IX command expansion, loaded and checked at load time.
 
-The file holds the world→arm transform, the approach height, the gripper
+The file holds the world→arm transform, the height of moves, the gripper
 margin, which recognized operation expands to which steps, and the Table IX
 macros. Everything is validated here — unknown keys, unknown macro or
 primitive names, wrong argument counts, unknown expression names, recursion —
 with errors naming the file and line, so a bad file stops before anything runs.
+The support relations and the leaf labels are not written here: the loader
+takes them from effects.yaml (roles) and operations.yaml (labels).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from lbw_engine.errors import InputError
-from lbw_engine.yamlio import line_of, load_file
+from lbw_engine.rules.reader import Reader
+from lbw_engine.yamlio import line_of
 
 
 @dataclass(frozen=True)
@@ -37,19 +39,15 @@ PRIMITIVES: dict[str, Primitive] = {
 GLOBALS: dict[str, str] = {
     "goal": "position",
     "hand-pos": "position",
-    "approach": "height",
+    "approach-height": "height",
     "open-width": "width",
 }
 GOAL_SOURCES = ("object", "placement")
 JAW_AXES = {"x": 0, "y": 1}
 
-_TOP = {
-    "arm_frame", "approach_height", "home", "skip_null_moves", "gripper", "release_clearance",
-    "support_relations", "focus", "operations", "macros", "labels", "balance_margin",
-    "steady_margin",
-}
-_REQUIRED = _TOP - {"skip_null_moves", "release_clearance", "labels", "balance_margin",
-                    "steady_margin"}
+_REQUIRED = ("arm-frame", "approach-height", "home", "gripper", "focus", "operations", "macros")
+_OPTIONAL = ("skip-null-moves", "release-clearance", "balance-margin", "steady-margin")
+_GRIPPER = ("jaw-axis", "margin", "tip", "finger", "clearance", "tip-clearance", "max-below-top")
 
 Expr = str | tuple[str, str]  # a name, or (xy-name, z-name) for {xy: P, z: Q}
 
@@ -81,7 +79,7 @@ class OperationRule:
     goal: tuple[str, ...]
     steps: tuple[Step, ...]
     line: int | None = None
-    check_jaws: bool = False  # fail when the gripper's jaws cannot reach the goal
+    check_jaws: bool = False  # fail when no grip point leaves the gripper's jaws clear
 
 
 @dataclass(frozen=True)
@@ -129,7 +127,7 @@ class CommandRules:
     steady_margin: float = 0.0  # see balance.steadied
 
     def operation_of(self, word: str) -> str:
-        """The operation a plan leaf's label names (``NO`` -> ``NO-OP``)."""
+        """The operation a plan leaf's label names (operations.yaml labels; else its name)."""
         return self.labels.get(word.upper(), word.upper())
 
     def grip_offset(self, size: tuple[float, float, float]) -> float:
@@ -138,200 +136,133 @@ class CommandRules:
         return max(h / 2 - min(h / 2, self.max_below_top), self.tip + self.tip_clearance - h / 2)
 
 
-class _Ctx:
-    """Where errors point: the file being read."""
+def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str]) -> CommandRules:
+    """Validate a parsed commands.yaml document and build CommandRules.
 
-    def __init__(self, file: str) -> None:
-        self.file = file
+    ``support`` is the (single, multiple) support relations of effects.yaml;
+    ``labels`` maps a leaf label to its operation (operations.yaml).
+    """
+    rd = Reader(file)
+    rd.keys(rd.mapping(doc, "the file"), "the file", _REQUIRED, _OPTIONAL)
+    frame = _arm_frame(rd, doc["arm-frame"])
+    grip = rd.mapping(doc["gripper"], "gripper", doc, "gripper")
+    rd.keys(grip, "gripper", _GRIPPER, where="gripper")
+    jaw = rd.one_of(grip["jaw-axis"], JAW_AXES, "jaw axis", grip, "jaw-axis")
+    focus = rd.mapping(doc["focus"], "focus", doc, "focus")
+    rd.keys(focus, "focus", ("relations", "slots"), where="focus")
+    macros = _macros(rd, doc["macros"])
+    operations = _operations(rd, doc["operations"])
+    _check_calls(rd, macros, operations)
 
-    def fail(self, msg: str, container: Any, key: Any = None, where: str = "") -> InputError:
-        """An InputError at container[key]."""
-        return InputError(msg, file=self.file, line=line_of(container, key), where=where or None)
+    def mm(container: dict, key: str, where: str, low: float = 0.0) -> float:
+        return rd.number(container, key, where, low, 1000.0, where)
 
-    def keys(self, m: Any, allowed: set[str], where: str, required: set[str] = frozenset()):
-        """Check a mapping's keys: none unknown, none missing."""
-        if not isinstance(m, dict):
-            raise self.fail("must be a mapping", m, None, where)
-        for k in m:
-            if k not in allowed:
-                raise self.fail(f"unknown key '{k}' (allowed: {', '.join(sorted(allowed))})",
-                                m, k, f"{where}.{k}".lstrip("."))
-        for k in sorted(required - set(m)):
-            raise self.fail(f"missing required key '{k}'", m, None, where)
+    def optional(key: str) -> float:
+        return mm(doc, key, key) if key in doc else 0.0
 
-    def number(self, m: Any, k: Any, where: str) -> float:
-        """A real number at m[k]."""
-        v = m[k]
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise self.fail("must be a number", m, k, where)
-        return float(v)
-
-    def vector(self, m: Any, k: Any, n: int, where: str) -> tuple[float, ...]:
-        """A list of n numbers at m[k]."""
-        v = m[k]
-        if not isinstance(v, list) or len(v) != n:
-            raise self.fail(f"must be a list of {n} numbers", m, k, where)
-        return tuple(self.number(v, i, f"{where}[{i}]") for i in range(n))
-
-    def names(self, m: Any, k: Any, where: str, allowed: tuple[str, ...] | None = None):
-        """A list of strings at m[k], optionally from a closed set."""
-        v = m[k]
-        if not isinstance(v, list) or not all(isinstance(s, str) for s in v):
-            raise self.fail("must be a list of names", m, k, where)
-        for i, s in enumerate(v):
-            if allowed is not None and s not in allowed:
-                raise self.fail(f"unknown name '{s}' (allowed: {', '.join(allowed)})",
-                                v, i, f"{where}[{i}]")
-        return tuple(v)
-
-
-def load(path: str | Path) -> CommandRules:
-    """Load and validate a commands.yaml file."""
-    return parse(load_file(path), str(path))
-
-
-def load_dir(rules_dir: str | Path) -> CommandRules:
-    """Load ``commands.yaml`` from a rules directory."""
-    return load(Path(rules_dir) / "commands.yaml")
-
-
-def parse(doc: Any, file: str = "<string>") -> CommandRules:
-    """Validate a parsed commands.yaml document and build CommandRules."""
-    cx = _Ctx(file)
-    cx.keys(doc, _TOP, "", _REQUIRED)
-    frame = _arm_frame(cx, doc["arm_frame"])
-    grip_keys = {"jaw_axis", "margin", "tip", "finger", "clearance", "tip_clearance",
-                 "max_below_top"}
-    cx.keys(doc["gripper"], grip_keys, "gripper", grip_keys)
-    jaw = doc["gripper"]["jaw_axis"]
-    if jaw not in JAW_AXES:
-        raise cx.fail("must be x or y", doc["gripper"], "jaw_axis", "gripper.jaw_axis")
-    cx.keys(doc["focus"], {"relations", "slots"}, "focus", {"relations", "slots"})
-    skip = doc.get("skip_null_moves", True)
-    if not isinstance(skip, bool):
-        raise cx.fail("must be true or false", doc, "skip_null_moves", "skip_null_moves")
-    macros = _macros(cx, doc["macros"])
-    operations = _operations(cx, doc["operations"])
-    _check_calls(cx, macros, operations)
     return CommandRules(
         arm_frame=frame,
-        approach_height=cx.number(doc, "approach_height", "approach_height"),
-        home=cx.vector(doc, "home", 3, "home"),
-        skip_null_moves=skip,
+        approach_height=mm(doc, "approach-height", "approach-height"),
+        home=rd.vector(doc, "home", 3, "home", -1000.0, 1000.0, "home"),
+        skip_null_moves=rd.boolean(doc, "skip-null-moves", "skip-null-moves", True),
         jaw_axis=JAW_AXES[jaw],
-        margin=cx.number(doc["gripper"], "margin", "gripper.margin"),
-        tip=cx.number(doc["gripper"], "tip", "gripper.tip"),
-        finger=cx.vector(doc["gripper"], "finger", 3, "gripper.finger"),
-        jaw_clearance=cx.number(doc["gripper"], "clearance", "gripper.clearance"),
-        tip_clearance=cx.number(doc["gripper"], "tip_clearance", "gripper.tip_clearance"),
-        max_below_top=cx.number(doc["gripper"], "max_below_top", "gripper.max_below_top"),
-        release_clearance=(cx.number(doc, "release_clearance", "release_clearance")
-                           if "release_clearance" in doc else 0.0),
-        support_relations=cx.names(doc, "support_relations", "support_relations"),
-        focus_relations=cx.names(doc["focus"], "relations", "focus.relations"),
-        focus_slots=cx.names(doc["focus"], "slots", "focus.slots", ("base", "target", "special")),
+        margin=mm(grip, "margin", "gripper.margin"),
+        tip=mm(grip, "tip", "gripper.tip"),
+        finger=rd.vector(grip, "finger", 3, "gripper.finger", 1.0, 200.0, "gripper.finger"),
+        jaw_clearance=mm(grip, "clearance", "gripper.clearance"),
+        tip_clearance=mm(grip, "tip-clearance", "gripper.tip-clearance"),
+        max_below_top=mm(grip, "max-below-top", "gripper.max-below-top"),
+        release_clearance=optional("release-clearance"),
+        support_relations=tuple(support),
+        focus_relations=rd.names(focus, "relations", "focus.relations", where="focus.relations"),
+        focus_slots=rd.names(focus, "slots", "focus.slots", ("base", "target", "special"),
+                             "focus.slots"),
         operations=operations,
         macros=macros,
         file=file,
-        labels=_labels(cx, doc, operations),
-        balance_margin=(cx.number(doc, "balance_margin", "balance_margin")
-                        if "balance_margin" in doc else 0.0),
-        steady_margin=(cx.number(doc, "steady_margin", "steady_margin")
-                       if "steady_margin" in doc else 0.0),
+        labels={label.upper(): op for label, op in labels.items()},
+        balance_margin=optional("balance-margin"),
+        steady_margin=optional("steady-margin"),
     )
 
 
-def _labels(cx: _Ctx, doc: Any, operations: dict[str, OperationRule]) -> dict[str, str]:
-    """The optional labels section: leaf label -> an operation defined above."""
-    raw = doc.get("labels", {})
-    if not isinstance(raw, dict):
-        raise cx.fail("must be a mapping of label -> operation", doc, "labels", "labels")
-    out = {}
-    for label, op in raw.items():
-        if not isinstance(label, str) or op not in operations:
-            raise cx.fail(f"'{op}' is not an operation of this file", raw, label,
-                          f"labels.{label}")
-        out[label.upper()] = op
-    return out
-
-
-def _arm_frame(cx: _Ctx, raw: Any) -> ArmFrame:
+def _arm_frame(rd: Reader, raw: Any) -> ArmFrame:
     """The world→arm transform; the rotation must be orthonormal (a calibration)."""
-    cx.keys(raw, {"rotation", "offset"}, "arm_frame", {"rotation", "offset"})
+    rd.keys(rd.mapping(raw, "arm-frame"), "arm-frame", ("rotation", "offset"), where="arm-frame")
     rot = raw["rotation"]
     if not isinstance(rot, list) or len(rot) != 3:
-        raise cx.fail("must be a 3×3 matrix (three rows)", raw, "rotation", "arm_frame.rotation")
-    rows = tuple(cx.vector(rot, i, 3, f"arm_frame.rotation[{i}]") for i in range(3))
+        rd.fail("must be a 3×3 matrix (three rows)", raw, "rotation", "arm-frame.rotation")
+    rows = tuple(rd.vector(rot, i, 3, f"arm-frame.rotation[{i}]", -1.0, 1.0,
+                           f"arm-frame.rotation[{i}]") for i in range(3))
     if not np.allclose(np.asarray(rows) @ np.asarray(rows).T, np.eye(3), atol=1e-3):
-        raise cx.fail("must be orthonormal (rows of unit length, at right angles)",
-                      raw, "rotation", "arm_frame.rotation")
-    return ArmFrame(rows, cx.vector(raw, "offset", 3, "arm_frame.offset"))
+        rd.fail("must be orthonormal (rows of unit length, at right angles)",
+                raw, "rotation", "arm-frame.rotation")
+    offset = rd.vector(raw, "offset", 3, "arm-frame.offset", -1e4, 1e4, "arm-frame.offset")
+    return ArmFrame(rows, offset)
 
 
-def _expr(cx: _Ctx, parent: Any, key: Any, where: str) -> Expr:
+def _expr(rd: Reader, parent: Any, key: Any, where: str) -> Expr:
     """An argument expression: a name or {xy: NAME, z: NAME}."""
     v = parent[key]
     if isinstance(v, str):
         return v
     if isinstance(v, dict):
-        cx.keys(v, {"xy", "z"}, where, {"xy", "z"})
+        rd.keys(v, "an expression", ("xy", "z"), where=where)
         if not all(isinstance(v[k], str) for k in ("xy", "z")):
-            raise cx.fail("xy and z must be names", parent, key, where)
+            rd.fail("xy and z must be names", parent, key, where)
         return (v["xy"], v["z"])
-    raise cx.fail("must be a name or {xy: NAME, z: NAME}", parent, key, where)
+    rd.fail("must be a name or {xy: NAME, z: NAME}", parent, key, where)
 
 
-def _steps(cx: _Ctx, parent: Any, key: str, where: str) -> tuple[Step, ...]:
+def _steps(rd: Reader, parent: Any, key: str, where: str) -> tuple[Step, ...]:
     """A list of steps, each [NAME, ARG...]."""
     raw = parent[key]
     if not isinstance(raw, list):
-        raise cx.fail("must be a list of steps [NAME, ARG...]", parent, key, where)
+        rd.fail("must be a list of steps [NAME, ARG...]", parent, key, where)
     out = []
     for i, item in enumerate(raw):
         w = f"{where}[{i}]"
         if not isinstance(item, list) or not item or not isinstance(item[0], str):
-            raise cx.fail("a step must be a list [NAME, ARG...]", raw, i, w)
-        args = tuple(_expr(cx, item, j, f"{w}[{j}]") for j in range(1, len(item)))
+            rd.fail("a step must be a list [NAME, ARG...]", raw, i, w)
+        args = tuple(_expr(rd, item, j, f"{w}[{j}]") for j in range(1, len(item)))
         out.append(Step(item[0], args, line_of(raw, i)))
     return tuple(out)
 
 
-def _macros(cx: _Ctx, raw: Any) -> dict[str, Macro]:
+def _macros(rd: Reader, raw: Any) -> dict[str, Macro]:
     """The macros section."""
     if not isinstance(raw, dict):
-        raise cx.fail("must be a mapping of macro name → {params, steps}", raw, None, "macros")
+        rd.fail("must be a mapping of macro name → {params, steps}", raw, None, "macros")
     out = {}
     for name, body in raw.items():
         w = f"macros.{name}"
         if name in PRIMITIVES or name in GLOBALS:
-            raise cx.fail(f"'{name}' is a built-in name and cannot be a macro", raw, name, w)
-        cx.keys(body, {"params", "steps"}, w, {"params", "steps"})
-        params = cx.names(body, "params", f"{w}.params")
+            rd.fail(f"'{name}' is a built-in name and cannot be a macro", raw, name, w)
+        rd.keys(rd.mapping(body, w, raw, name), w, ("params", "steps"), where=w)
+        params = rd.names(body, "params", f"{w}.params", where=f"{w}.params")
         for p in params:
             if p in GLOBALS:
-                raise cx.fail(f"parameter '{p}' hides a global name", body, "params", w)
-        out[name] = Macro(name, params, _steps(cx, body, "steps", f"{w}.steps"), line_of(raw, name))
+                rd.fail(f"parameter '{p}' hides a global name", body, "params", w)
+        out[name] = Macro(name, params, _steps(rd, body, "steps", f"{w}.steps"), line_of(raw, name))
     return out
 
 
-def _operations(cx: _Ctx, raw: Any) -> dict[str, OperationRule]:
+def _operations(rd: Reader, raw: Any) -> dict[str, OperationRule]:
     """The operations section."""
     if not isinstance(raw, dict):
-        raise cx.fail("must be a mapping of operation → {goal, steps}", raw, None, "operations")
+        rd.fail("must be a mapping of operation → {goal, steps}", raw, None, "operations")
     out = {}
     for name, body in raw.items():
         w = f"operations.{name}"
-        cx.keys(body, {"goal", "steps", "check_jaws"}, w, {"goal", "steps"})
-        goal = cx.names(body, "goal", f"{w}.goal", GOAL_SOURCES)
-        check = body.get("check_jaws", False)
-        if not isinstance(check, bool):
-            raise cx.fail("must be true or false", body, "check_jaws", f"{w}.check_jaws")
-        out[name] = OperationRule(name, goal, _steps(cx, body, "steps", f"{w}.steps"),
+        rd.keys(rd.mapping(body, w, raw, name), w, ("goal", "steps"), ("check-jaws",), where=w)
+        goal = rd.names(body, "goal", f"{w}.goal", GOAL_SOURCES, f"{w}.goal")
+        check = rd.boolean(body, "check-jaws", f"{w}.check-jaws", False)
+        out[name] = OperationRule(name, goal, _steps(rd, body, "steps", f"{w}.steps"),
                                   line_of(raw, name), check)
     return out
 
 
-def _check_calls(cx: _Ctx, macros: dict[str, Macro], ops: dict[str, OperationRule]) -> None:
+def _check_calls(rd: Reader, macros: dict[str, Macro], ops: dict[str, OperationRule]) -> None:
     """Every step names a known macro or primitive with the right arity and known names."""
     def check(steps: tuple[Step, ...], scope: set[str], where: str) -> None:
         for s in steps:
@@ -340,24 +271,24 @@ def _check_calls(cx: _Ctx, macros: dict[str, Macro], ops: dict[str, OperationRul
             elif s.name in macros:
                 arity = len(macros[s.name].params)
             else:
-                raise InputError(f"unknown macro or primitive '{s.name}'", file=cx.file,
+                raise InputError(f"unknown macro or primitive '{s.name}'", file=rd.file,
                                  line=s.line, where=where)
             if len(s.args) != arity:
                 raise InputError(f"'{s.name}' takes {arity} argument(s), got {len(s.args)}",
-                                 file=cx.file, line=s.line, where=where)
+                                 file=rd.file, line=s.line, where=where)
             for a in s.args:
                 for n in (a,) if isinstance(a, str) else a:
                     if n not in scope and n not in GLOBALS:
                         raise InputError(f"unknown name '{n}' in the arguments of '{s.name}'",
-                                         file=cx.file, line=s.line, where=where)
+                                         file=rd.file, line=s.line, where=where)
     for m in macros.values():
         check(m.steps, set(m.params), f"macros.{m.name}")
     for o in ops.values():
         check(o.steps, set(), f"operations.{o.name}")
-    _no_recursion(cx, macros)
+    _no_recursion(rd, macros)
 
 
-def _no_recursion(cx: _Ctx, macros: dict[str, Macro]) -> None:
+def _no_recursion(rd: Reader, macros: dict[str, Macro]) -> None:
     """A macro may not (indirectly) expand to itself."""
     state: dict[str, int] = {}  # 1 = on the current path, 2 = done
 
@@ -368,7 +299,7 @@ def _no_recursion(cx: _Ctx, macros: dict[str, Macro]) -> None:
                 continue
             if state.get(s.name) == 1:
                 cycle = " → ".join([*path, s.name])
-                raise InputError(f"recursive macro expansion {cycle}", file=cx.file,
+                raise InputError(f"recursive macro expansion {cycle}", file=rd.file,
                                  line=s.line, where=f"macros.{name}")
             if s.name not in state:
                 visit(s.name, [*path, s.name])

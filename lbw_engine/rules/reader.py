@@ -1,28 +1,64 @@
-"""Small helpers for checking rule data at load time with file:line messages.
+"""The one checker every rule file is read with: typed getters, file:line messages.
 
-Rule files are plain YAML read by ``yamlio`` (which keeps line numbers); these
-helpers turn a shape mismatch into an ``InputError`` naming file, line and key.
+Rule files are plain YAML read by ``yamlio`` (which keeps line numbers); a
+``Reader`` turns a shape mismatch into an ``InputError`` naming the file, the
+line and, where given, the key path (``gripper.finger[1]``). Every rule file
+(recognition, analysis, commands) is parsed through this class, so a kind of
+mistake reads the same wherever it is made.
 """
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 from lbw_engine.errors import InputError
-from lbw_engine.yamlio import line_of
+from lbw_engine.yamlio import line_of, load_file
+
+
+def listing(items: Any, sep: str = ", ") -> str:
+    """Names separated by ``sep`` (for messages)."""
+    return sep.join(str(item) for item in items)
+
+
+def _path(where: str | None, key: Any) -> str | None:
+    """``where`` extended by ``key`` (``a.b`` or ``a[3]``), None when both are unknown."""
+    if key is None:
+        return where or None
+    if isinstance(key, int):
+        return f"{where or ''}[{key}]"
+    return f"{where}.{key}" if where else str(key)
 
 
 class Reader:
     """Checks values of one rule file and reports errors with its name and lines."""
 
     def __init__(self, file: str | Path) -> None:
+        """A reader for ``file`` (the name used in messages)."""
         self.file = str(file)
 
-    def fail(self, message: str, container: Any = None, key: Any = None, where: str | None = None):
-        """Raise an InputError at the line of ``container[key]``."""
-        raise InputError(message, file=self.file, line=line_of(container, key), where=where)
+    @classmethod
+    def load(cls, path: Path, required: tuple[str, ...] = (),
+             optional: tuple[str, ...] = ()) -> tuple[Reader, dict]:
+        """Read a YAML rule file whose top level is a mapping with these keys."""
+        reader = cls(path)
+        data = reader.mapping(load_file(path), "the file")
+        reader.keys(data, "the file", required, optional)
+        return reader, data
 
+    # -- failing ---------------------------------------------------------------------
+    def error(self, message: str, container: Any = None, key: Any = None,
+              where: str | None = None) -> InputError:
+        """An InputError at the line of ``container[key]``."""
+        return InputError(message, file=self.file, line=line_of(container, key), where=where)
+
+    def fail(self, message: str, container: Any = None, key: Any = None,
+             where: str | None = None) -> NoReturn:
+        """Raise an InputError at the line of ``container[key]``."""
+        raise self.error(message, container, key, where)
+
+    # -- shapes -------------------------------------------------------------------------
     def mapping(self, value: Any, what: str, container: Any = None, key: Any = None) -> dict:
         """``value`` must be a mapping."""
         if not isinstance(value, dict):
@@ -35,19 +71,20 @@ class Reader:
             self.fail(f"{what} must be a list", container, key)
         return value
 
-    def keys(
-        self, data: dict, what: str, required: tuple[str, ...] = (), optional: tuple[str, ...] = ()
-    ) -> None:
+    def keys(self, data: dict, what: str, required: tuple[str, ...] = (),
+             optional: tuple[str, ...] = (), where: str | None = None) -> None:
         """``data`` has all ``required`` keys and no key outside required + optional."""
         allowed = set(required) | set(optional)
         for key in data:
             if key not in allowed:
                 names = listing(sorted(allowed)) or "none"
-                self.fail(f"unknown key {key!r} in {what} (allowed: {names})", data, key)
+                self.fail(f"unknown key {key!r} in {what} (allowed: {names})", data, key,
+                          _path(where, key) if where else None)
         for key in required:
             if key not in data:
-                self.fail(f"{what} lacks the required key {key!r}", data)
+                self.fail(f"{what} lacks the required key {key!r}", data, None, where)
 
+    # -- values -------------------------------------------------------------------------
     def name(self, data: dict, key: str, what: str) -> str:
         """``data[key]`` must be a non-empty string."""
         value = data.get(key)
@@ -57,24 +94,61 @@ class Reader:
             self.fail(f"{what} {key!r} must be a name, got {value!r}", data, key)
         return value
 
-    def number(self, data: dict, key: str, what: str) -> float:
-        """``data[key]`` must be a number."""
-        value = data.get(key)
+    def names(self, data: Any, key: Any, what: str, allowed: Any = None,
+              where: str | None = None) -> tuple[str, ...]:
+        """``data[key]`` must be a list of names, optionally from a closed set."""
+        value = data[key]
+        if not isinstance(value, list) or not all(isinstance(v, str) and v for v in value):
+            self.fail(f"{what} must be a list of names", data, key, where)
+        for i, item in enumerate(value):
+            if allowed is not None and item not in allowed:
+                self.fail(f"unknown name {item!r} (allowed: {listing(allowed)})", value, i,
+                          _path(where, i) if where else None)
+        return tuple(value)
+
+    def number(self, data: Any, key: Any, what: str, low: float | None = None,
+               high: float | None = None, where: str | None = None) -> float:
+        """``data[key]`` must be a finite number, within [low, high] where given."""
+        value = data[key] if not isinstance(data, dict) else data.get(key)
         if isinstance(value, bool) or not isinstance(value, int | float):
-            self.fail(f"{what} {key!r} must be a number, got {value!r}", data, key)
-        return float(value)
+            self.fail(f"{what} must be a number, got {value!r}", data, key, where)
+        try:
+            number = float(value)
+        except OverflowError:
+            self.fail(f"{what} is too large a number", data, key, where)
+        if not math.isfinite(number):
+            self.fail(f"{what} must be a finite number", data, key, where)
+        if (low is not None and number < low) or (high is not None and number > high):
+            self.fail(f"{what} must be within {_range(low, high)}, got {value!r}", data, key,
+                      where)
+        return number
+
+    def vector(self, data: Any, key: Any, n: int, what: str, low: float | None = None,
+               high: float | None = None, where: str | None = None) -> tuple[float, ...]:
+        """``data[key]`` must be a list of ``n`` numbers (each within [low, high])."""
+        value = data[key]
+        if not isinstance(value, list) or len(value) != n:
+            self.fail(f"{what} must be a list of {n} numbers", data, key, where)
+        return tuple(self.number(value, i, f"{what}[{i}]", low, high, _path(where, i))
+                     for i in range(n))
+
+    def boolean(self, data: dict, key: str, what: str, default: bool) -> bool:
+        """``data[key]`` must be true or false (``default`` when absent)."""
+        value = data.get(key, default)
+        if not isinstance(value, bool):
+            self.fail(f"{what} must be true or false", data, key)
+        return value
 
     def one_of(self, value: Any, allowed: Any, what: str, container: Any, key: Any) -> Any:
         """``value`` must be in ``allowed`` (a collection of names)."""
-        if value not in allowed:
+        if isinstance(value, list | dict) or value not in allowed:
             names = listing(sorted(str(a) for a in allowed))
             self.fail(f"{what} {value!r} does not exist (known: {names})", container, key)
         return value
 
 
-def listing(items: Any, sep: str = ", ") -> str:
-    """Names separated by ``sep`` (for messages)."""
-    out = ""
-    for index, item in enumerate(items):
-        out += (sep if index else "") + str(item)
-    return out
+def _range(low: float | None, high: float | None) -> str:
+    """[low, high] for messages."""
+    if low is not None and high is not None:
+        return f"{low:g}..{high:g}"
+    return f">= {low:g}" if low is not None else f"<= {high:g}"

@@ -81,12 +81,12 @@ def compute_features(
     for name, spec in rules.features.items():
         if spec.source == "final-event":
             out[name] = event
-        elif spec.source == "holding":
+        elif spec.source == "hand-holds":
             out[name] = bool(env.held(HAND))
         elif spec.source == "snapshot-diff":
             diff = compared.get(spec.detector)
             if diff is not None:
-                out[name] = diff.value
+                out[name] = spec.value_of(diff.value)  # the detector's answer, in rule words
                 node.measured[name] = diff.position
                 node.found_by[name] = tuple(diff.found)
         else:  # target-kind, or support-kind: the kind of what the targets rest on

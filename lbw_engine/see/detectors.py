@@ -1,10 +1,16 @@
 """The interface between the interpreter and whatever answers event queries.
 
-ENV-nodes answer an event query (event, base, target) by asking the detector
-that Table III names for the event (rules/events.yaml). A *detector registry*
-maps those names to objects implementing ``Detector``. Perception provides
-image-based detectors; ``lbw_engine.see.replay`` provides detectors that read a
-recorded event trace. Both plug in behind the same protocol; see docs/engine.md.
+ENV-nodes answer an event query by calling the detector method that Table III
+names for the event (rules/events.yaml: the event-table of Table II maps an
+event to a method, the detector-table a method to a VFD). A *detector
+registry* maps detector names to objects implementing ``Detector``. Perception
+provides image-based detectors; ``lbw_engine.see.replay`` provides detectors
+that read a recorded event trace. Both plug in behind the same protocol; see
+docs/engine.md.
+
+Each detector declares its closed vocabulary (``methods`` it answers and the
+``answers`` its snapshot comparisons give); the rules map their own words onto
+it, so renaming an event or a Table V value is a rule edit.
 
 Lifecycle per frame (Sec. V-A): ``begin_frame`` on every detector, then the
 detect passes (``query``), then the analyze step, which at segmentation points
@@ -13,7 +19,7 @@ calls ``snapshot`` (start and end of a motion) and ``compare`` (end).
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 
@@ -62,6 +68,24 @@ class Detection:
 
 
 @dataclass(frozen=True)
+class Query:
+    """What an ATTN-node asks an ENV-node (Sec. V-A "Detect").
+
+    event:  the rules' event name (a replay trace records it);
+    method: the detector method the event-table names (the detector's vocabulary);
+    base, target: the ENV-nodes the ATTN-node points to;
+    since:  when the ACT-node waiting for the event began (its t_start): the stretch
+            of the hand's path the query is about (e.g. the hand's descent towards a target).
+    """
+
+    event: str
+    method: str
+    base: tuple[EnvNode, ...]
+    target: tuple[EnvNode, ...]
+    since: float = 0.0
+
+
+@dataclass(frozen=True)
 class ActView:
     """What a detector may know about the ACT-node a snapshot is taken for."""
 
@@ -76,12 +100,13 @@ class ActView:
 class Detector(Protocol):
     """One detector (a VFD behind an ENV-node, Table I), as the interpreter sees it."""
 
+    methods: frozenset[str]  # the event methods it answers
+    answers: frozenset[Any]  # the values its snapshot comparisons give
+
     def begin_frame(self, t: float, frame: Any) -> None:
         """A new frame at time ``t`` (seconds) is current; detectors read only it."""
 
-    def query(
-        self, event: str, base: Sequence[EnvNode], target: Sequence[EnvNode], env: EnvModel
-    ) -> Detection | None:
+    def query(self, query: Query, env: EnvModel) -> Detection | None:
         """Answer an event query for the current frame: a Detection, or None if not found."""
 
     def snapshot(self, act: ActView, env: EnvModel) -> Any:
@@ -94,10 +119,13 @@ class Detector(Protocol):
 class ConstantDetector:
     """The engine's own detector for events that hold at once (Table VII, row 1)."""
 
+    methods: frozenset[str] = frozenset()  # it answers any method: the event holds
+    answers: frozenset[Any] = frozenset()
+
     def begin_frame(self, t: float, frame: Any) -> None:
         """Nothing to read."""
 
-    def query(self, event: str, base, target, env) -> Detection | None:
+    def query(self, query: Query, env) -> Detection | None:
         """Always reports the event, with nothing found."""
         return Detection()
 
@@ -146,6 +174,12 @@ class DetectorRegistry:
             if id(det) not in seen:
                 seen.append(id(det))
                 yield det
+
+    def vocabulary(self) -> dict[str, dict[str, frozenset]]:
+        """Detector name -> the methods it answers and the answers it gives."""
+        return {name: {"methods": frozenset(getattr(det, "methods", ())),
+                       "answers": frozenset(getattr(det, "answers", ()))}
+                for name, det in self._detectors.items()}
 
     def begin_frame(self, t: float, frame: Any) -> None:
         """Tell every detector that a new frame is current."""

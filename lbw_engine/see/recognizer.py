@@ -19,7 +19,7 @@ from lbw_engine.rules import RedirectionRow, RuleSet, TransitionRow
 from lbw_engine.see import actmodel
 from lbw_engine.see.actmodel import ActNode
 from lbw_engine.see.attention import AttentionStack, AttnNode
-from lbw_engine.see.detectors import Detection, DetectorRegistry
+from lbw_engine.see.detectors import Detection, DetectorRegistry, Query
 from lbw_engine.see.motionfeatures import classify as motion_value
 
 
@@ -84,9 +84,9 @@ class Recognizer:
         """Send the ATTN-node's event query to the ENV-node's detector (Table III)."""
         spec = self.rules.events[node.event]
         detector = self.registry[spec.detector]
-        found = detector.query(
-            node.event, self.env.get(node.base), self.env.get(node.target), self.env
-        )
+        query = Query(node.event, spec.method, tuple(self.env.get(node.base)),
+                      tuple(self.env.get(node.target)), node.owner.t_start)
+        found = detector.query(query, self.env)
         if found is None:
             return None
         ranges = self.rules.motion_features.ranges

@@ -16,7 +16,7 @@ from typing import Any
 
 from lbw_engine.errors import InputError, read_input
 from lbw_engine.rules import RuleSet
-from lbw_engine.see.detectors import ActView, Detection, ObjectInfo
+from lbw_engine.see.detectors import ActView, Detection, ObjectInfo, Query
 
 HEADER = {"format": "lbw-event-trace", "version": 1}
 EVENT_KEYS = {"t", "event", "found", "value", "velocity", "positions", "objects", "base"}
@@ -72,19 +72,28 @@ class Trace:
 
 
 class ReplayDetector:
-    """The detector called ``name``, answering from ``trace`` (the Detector protocol)."""
+    """The detector called ``name``, answering from ``trace`` (the Detector protocol).
 
-    def __init__(self, trace: Trace, name: str) -> None:
+    A trace is written in the rules' own words (events, Table V values); the
+    comparison values are turned into this detector's answers through the rules'
+    feature tables, so the engine reads them back as it reads any detector's.
+    """
+
+    def __init__(self, trace: Trace, name: str, rules: RuleSet) -> None:
         self.trace = trace
         self.name = name
+        self._answer = {value: answer for f in rules.features.values() if f.detector == name
+                        for value, answer in f.answers.items()}
+        self.methods = frozenset(e.method for e in rules.events.values() if e.detector == name)
+        self.answers = frozenset(self._answer.values())
 
     def begin_frame(self, t: float, frame: Any) -> None:
         """Select the trace records at ``t``."""
         self.trace.begin_frame(t)
 
-    def query(self, event: str, base, target, env) -> Detection | None:
-        """The current record for ``event``, as a Detection."""
-        rec = self.trace.take(event, None, tuple(n.name for n in base))
+    def query(self, query: Query, env) -> Detection | None:
+        """The current record for the query's event, as a Detection."""
+        rec = self.trace.take(query.event, None, tuple(n.name for n in query.base))
         if rec is None:
             return None
         data = rec.data
@@ -116,7 +125,9 @@ class ReplayDetector:
         if rec is None:
             return None
         at = rec.data.get("at")
-        return Detection(value=rec.data.get("value"), position=tuple(at) if at else None)
+        value = rec.data.get("value")
+        return Detection(value=self._answer.get(value, value) if isinstance(value, str | int)
+                         else value, position=tuple(at) if at else None)
 
 
 def _vec(trace_path, line: int, value: Any, what: str) -> None:
@@ -220,7 +231,8 @@ def load_trace(path: str | Path, rules: RuleSet) -> Trace:
 def replay_detectors(trace: Trace, rules: RuleSet) -> dict[str, ReplayDetector]:
     """A replay detector for every non-builtin detector the rules name."""
     return {
-        name: ReplayDetector(trace, name) for name, d in rules.detectors.items() if not d.builtin
+        name: ReplayDetector(trace, name, rules)
+        for name, d in rules.detectors.items() if not d.builtin
     }
 
 

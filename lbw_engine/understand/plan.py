@@ -17,13 +17,14 @@ from pathlib import Path
 from typing import Any
 
 from lbw_engine.errors import InputError
-from lbw_engine.rules.analysis import AnalysisRules, load_rules
+from lbw_engine.rules import load_rules
+from lbw_engine.rules.analysis import AnalysisRules
 from lbw_engine.understand.actions import ActionSequence, Operation, load_actions
 from lbw_engine.understand.dependency import Planner
 from lbw_engine.understand.gcpause import without_gc
 from lbw_engine.understand.relations import RelationTable, sorted_json
 from lbw_engine.understand.state import Member, Operator
-from lbw_engine.understand.templates import build_step1, load_templates, parse_sequence
+from lbw_engine.understand.templates import build_step1, parse_sequence
 
 
 @dataclass
@@ -40,7 +41,7 @@ class Analysis:
 @without_gc
 def analyze_file(actions_path: str | Path, rules_dir: str | Path | None = None) -> Analysis:
     """Load rules and an actions.json file and analyse it."""
-    rules = load_rules(rules_dir)
+    rules = load_rules(rules_dir).analysis
     table = RelationTable(rules.tolerance)
     seq = load_actions(actions_path, table)
     return analyze(seq, rules)
@@ -67,7 +68,7 @@ def split_trailing(
 @without_gc
 def analyze(seq: ActionSequence, rules: AnalysisRules) -> Analysis:
     """Plan analysis of Sec. VI on a loaded action sequence."""
-    tpl = load_templates(rules)
+    tpl = rules.templates()
     seq, tail = split_trailing(seq, rules.trailing)
     tree = parse_sequence(tpl, seq)
     achieves, removed = build_step1(tree, seq, rules)

@@ -11,16 +11,16 @@ Reading also accepts the paper's own text: a missing slot is empty, a missing
 from __future__ import annotations
 
 import re
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from lark import Lark, Transformer, v_args
-from lark.exceptions import LarkError, UnexpectedInput, VisitError
+from lark import Transformer, v_args
+from lark.exceptions import UnexpectedInput, VisitError
 
 from lbw_engine.errors import InputError
 from lbw_engine.paths import default_rules_dir
 from lbw_engine.rules.analysis import PLAN_CLASSES
+from lbw_engine.rules.grammars import compile_plot
 
 RELATION_SLOTS = (("sc_plus", ":sc-plus"), ("sc_minus", ":sc-minus"), ("si", ":si"), ("sp", ":sp"))
 NAME_SLOTS = (("base", ":base"), ("target", ":target"), ("special", ":special"),
@@ -180,23 +180,12 @@ class _ToPlan(Transformer):
         return (name, slots)
 
 
-@lru_cache(maxsize=4)
-def _parser(grammar_file: Path) -> Lark:
-    """The plot notation parser (LALR, contextual lexer)."""
-    try:
-        return Lark(grammar_file.read_text(encoding="utf-8"), parser="lalr",
-                    propagate_positions=False)
-    except (OSError, LarkError) as exc:
-        raise InputError(f"bad plot grammar: {str(exc).strip().splitlines()[0]}",
-                         file=grammar_file) from None
-
-
 def read_plan_text(text: str, file: str = "<plan.txt>",
                    grammar_file: str | Path | None = None) -> dict:
     """Parse plan.txt into a plan.json document; errors name the file and line."""
     grammar_file = Path(grammar_file) if grammar_file else default_rules_dir() / "plot.lark"
     try:
-        tree = _parser(grammar_file).parse(text)
+        tree = compile_plot(grammar_file).parse(text)
         ops = _ToPlan().transform(tree)
     except UnexpectedInput as exc:
         raise InputError(f"not in the plot notation at column {exc.column}: "

@@ -1,9 +1,8 @@
 """Step 1 of plan analysis (Sec. VI-C1): the fixed-order templates of Fig. 15.
 
-rules/templates.lark is the reference. The action sequence is fed to Lark one
-word per operation through ``WordLexer``: a word becomes the terminal whose
-quoted text equals it, else the first /regex/ terminal that matches it in full;
-a word no terminal accepts is an error. The parse tree is then read through the
+rules/templates.lark is the reference (compiled when the rules load,
+``lbw_engine.rules.grammars``). The action sequence is fed to Lark one word per
+operation; a word no terminal accepts is an error. The parse tree is read through the
 analysis.yaml table (grammar rule → operator class; removed rules): an operator
 is made for every rule in the table, rules outside it are transparent, removed
 rules are dropped with everything they matched. No operation name appears here.
@@ -11,97 +10,16 @@ rules are dropped with everything they matched. No operation name appears here.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import lru_cache
-from pathlib import Path
-
-from lark import Lark, Token, Tree
-from lark.exceptions import GrammarError, LarkError, UnexpectedEOF, UnexpectedInput
-from lark.lexer import Lexer
+from lark import Token, Tree
+from lark.exceptions import UnexpectedEOF, UnexpectedInput
 
 from lbw_engine.errors import InputError
 from lbw_engine.rules.analysis import AnalysisRules
+from lbw_engine.rules.grammars import Templates, UnknownWord
 from lbw_engine.understand.actions import ActionSequence, Operation
 from lbw_engine.understand.state import Member, Operator, make_operator
 
 CONTEXT = 2  # operations shown on each side of an error position
-
-
-class _UnknownWord(Exception):
-    """A word that no terminal of the grammar accepts."""
-
-    def __init__(self, index: int, word: str) -> None:
-        super().__init__(word)
-        self.index = index
-        self.word = word
-
-
-class WordLexer(Lexer):
-    """Tokenizes a list of operation names, one token per name, matched in full."""
-
-    def __init__(self, lexer_conf) -> None:
-        """Index the grammar's terminals: literal text → name, then regex terminals."""
-        self.literals: dict[str, str] = {}
-        self.patterns = []
-        for term in sorted(lexer_conf.terminals, key=lambda t: -t.priority):
-            if term.pattern.type == "str":
-                self.literals.setdefault(term.pattern.value, term.name)
-            else:
-                self.patterns.append((term.name, lexer_conf.re_module.compile(
-                    term.pattern.to_regexp(), lexer_conf.g_regex_flags)))
-
-    def lex(self, words):  # type: ignore[override]
-        """Yield one Token per word; its position is the operation's index."""
-        for i, word in enumerate(words):
-            kind = self.literals.get(word)
-            if kind is None:
-                kind = next((n for n, rx in self.patterns if rx.fullmatch(word)), None)
-            if kind is None:
-                raise _UnknownWord(i, word)
-            yield Token(kind, word, start_pos=i, line=1, column=i + 1, end_pos=i + 1)
-
-
-@dataclass(frozen=True)
-class Templates:
-    """A compiled template grammar with the readable form of each terminal."""
-
-    parser: Lark
-    shown: dict[str, str]  # terminal name -> how it reads in messages
-    file: Path
-
-
-@lru_cache(maxsize=8)
-def _compile(grammar_file: Path, mtime: float, start: str) -> Templates:
-    """Compile (and cache) the template grammar; ambiguity is a load-time error."""
-    del mtime  # part of the cache key only: an edited file is recompiled
-    try:
-        text = grammar_file.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot read the template grammar ({exc.__class__.__name__})",
-                         file=grammar_file) from None
-    try:
-        parser = Lark(text, parser="lalr", lexer=WordLexer, start=start, strict=True,
-                      keep_all_tokens=True)
-    except (GrammarError, LarkError) as exc:
-        first = str(exc).strip().splitlines()[0]
-        raise InputError(f"bad template grammar: {first}", file=grammar_file) from None
-    shown = {t.name: (t.pattern.value if t.pattern.type == "str" else f"/{t.pattern.value}/")
-             for t in parser.terminals}
-    return Templates(parser, shown, grammar_file)
-
-
-def load_templates(rules: AnalysisRules) -> Templates:
-    """The template grammar of ``rules``, checked against the analysis.yaml table."""
-    path = rules.grammar_file
-    if not path.is_file():
-        raise InputError("the template grammar named in analysis.yaml is missing", file=path)
-    tpl = _compile(path, path.stat().st_mtime, rules.start)
-    defined = {r.origin.name for r in tpl.parser.rules}
-    for rule in [*rules.operators, *rules.removed]:
-        if rule not in defined:
-            raise InputError(f"analysis.yaml names the rule {rule!r}, which {path.name} "
-                             "does not define", file=rules.file, where="templates")
-    return tpl
 
 
 def _around(ops: tuple[Operation, ...], index: int) -> str:
@@ -119,7 +37,7 @@ def parse_sequence(tpl: Templates, seq: ActionSequence) -> Tree:
     words = [op.operation for op in ops]
     try:
         return tpl.parser.parse(words)
-    except _UnknownWord as exc:
+    except UnknownWord as exc:
         raise InputError(
             f"operation {exc.word} is not in the templates of {tpl.file.name}; "
             f"around it: {_around(ops, exc.index)}",

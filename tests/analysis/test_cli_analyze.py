@@ -74,7 +74,15 @@ def rules_copy(tmp_path):
 
 
 def test_new_operation_added_to_templates_is_accepted(tmp_path, rules_copy):
-    # A user adds PICK-FROM-BLOCK to the recognizer's rules and to templates.lark only.
+    # A user adds PICK-FROM-BLOCK to Table V (docs/adding-an-operation.md) and to
+    # templates.lark; nothing else is needed for analysis.
+    ops = rules_copy / "operations.yaml"
+    ops.write_text(ops.read_text().replace(
+        "features:\n", "features:\n  source-kind: {source: support-kind, kinds: {Loc: block}}\n"
+    ).replace("    - {when: {sil-diff: decreased}, operation: PICK}\n",
+              "    - {when: {sil-diff: decreased, source-kind: block},"
+              " operation: PICK-FROM-BLOCK}\n"
+              "    - {when: {sil-diff: decreased}, operation: PICK}\n"))
     grammar = rules_copy / "templates.lark"
     text = grammar.read_text()
     assert 'fetch: "REACH" "PICK" _withdraw*' in text
@@ -110,9 +118,9 @@ BAD_RULES = [  # (id, file, old, new, fragment)
      "bad template grammar"),
     ("unknown-rule", "analysis.yaml", "    fake: FAKE", "    fake: FAKE\n    fetchh: FETCH",
      "does not define"),
-    ("unknown-class", "analysis.yaml", "put: PUT", "put: PLACE", "not one of"),
-    ("unknown-pass", "analysis.yaml", "[C-T, B-T, B-S, B-T]", "[C-T, B-X]", "pass 'B-X'"),
-    ("typo-key", "analysis.yaml", "position_tolerance:", "position_tolerence:", "unknown key"),
+    ("unknown-class", "analysis.yaml", "put: PUT", "put: PLACE", "'PLACE' does not exist"),
+    ("unknown-pass", "analysis.yaml", "[C-T, B-T, B-S, B-T]", "[C-T, B-X]", "'B-X'"),
+    ("typo-key", "analysis.yaml", "position-tolerance:", "position-tolerence:", "unknown key"),
 ]
 
 

@@ -8,11 +8,11 @@ import pytest
 
 from bench.bench_analysis import synthetic_task
 from lbw_engine.errors import InputError
+from lbw_engine.rules import load_rules
 from lbw_engine.understand import (
     RelationTable,
     analyze,
     analyze_file,
-    load_rules,
     parse_actions,
     read_plan_text,
     write_plan_text,
@@ -22,7 +22,7 @@ DATA = Path(__file__).resolve().parent.parent / "data"
 
 
 def _synthetic(n):
-    rules = load_rules()
+    rules = load_rules().analysis
     return analyze(parse_actions(synthetic_task(n), RelationTable(rules.tolerance)), rules).plan
 
 

@@ -10,11 +10,12 @@ from __future__ import annotations
 import pytest
 
 from bench.bench_analysis import synthetic_task
-from lbw_engine.understand import RelationTable, analyze, load_rules, parse_actions
+from lbw_engine.rules import load_rules
+from lbw_engine.understand import RelationTable, analyze, parse_actions
 
 
 def _plan(n):
-    rules = load_rules()
+    rules = load_rules().analysis
     return analyze(parse_actions(synthetic_task(n), RelationTable(rules.tolerance)), rules)
 
 

@@ -11,7 +11,8 @@ from pathlib import Path
 import pytest
 
 from bench.bench_analysis import TABLE, TaskWriter, on
-from lbw_engine.understand import RelationTable, analyze, analyze_file, load_rules, parse_actions
+from lbw_engine.rules import load_rules
+from lbw_engine.understand import RelationTable, analyze, analyze_file, parse_actions
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 
@@ -149,7 +150,7 @@ def fig16_task():
               [on("plate", ["a", "b", "c"], [0.0, 100.0, 110.0])])
     w.achieve("top", on("top", TABLE, [250.0, 300.0, 25.0]),
               [on("top", "plate", [0.0, 0.0, 35.0])])
-    rules = load_rules()
+    rules = load_rules().analysis
     return analyze(parse_actions(w.document(), RelationTable(rules.tolerance)), rules).plan
 
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 from lbw_engine.errors import InputError
-from lbw_engine.understand import RelationTable, analyze, load_rules, parse_actions
+from lbw_engine.rules import load_rules
+from lbw_engine.understand import RelationTable, analyze, parse_actions
 
 
 def run(words: str):
@@ -13,7 +14,7 @@ def run(words: str):
     ops = [{"operation": w, "base": ["hand"], "target": [], "special": [],
             "initial_state": {"relations": []}, "final_state": {"relations": []}}
            for w in words.split()]
-    rules = load_rules()
+    rules = load_rules().analysis
     return analyze(parse_actions({"operations": ops}, RelationTable(1.0), "t.json"), rules)
 
 

@@ -13,6 +13,11 @@ from lbw_engine.see.detectors import Detection, ObjectInfo
 RULES = load_rules()
 
 
+def answer(detector: str, value: str):
+    """What ``detector`` answers for the Table V value ``value`` (operations.yaml)."""
+    return next(f.answers[value] for f in RULES.features.values() if f.detector == detector)
+
+
 def env_with(holding: bool) -> EnvModel:
     env = EnvModel(RULES)
     env.absorb(Detection(objects={"b1": ObjectInfo("brick", (30, 30, 50), (0, 200, 25))}))
@@ -53,7 +58,8 @@ ROWS = [  # (case id, motion, final event, holding, target, snapshot diffs, oper
 def test_table_v_row(motion, event, holding, target, diffs, operation):
     env = env_with(holding)
     node = ActNode(motion, f"{motion}1", RULES.motions[motion].level, None, ("hand",), target)
-    compared = {name: Detection(value=value) for name, value in diffs.items()}
+    # the detectors answer in their own words; the rules' feature tables translate them
+    compared = {name: Detection(value=answer(name, value)) for name, value in diffs.items()}
     features = compute_features(RULES, node, event, env, compared)
     assert classify(RULES, motion, features) == operation
 

@@ -77,8 +77,8 @@ class Scripted:
     def begin_frame(self, t, frame):
         self.frames.append((t, frame))
 
-    def query(self, event, base, target, env):
-        if event == RULES.transitions[("Task", "loc-exist")].key:
+    def query(self, query, env):
+        if query.event == RULES.transitions[("Task", "loc-exist")].key:
             return Detection(found=(), objects={})
         return None
 

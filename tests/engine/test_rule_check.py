@@ -168,7 +168,7 @@ BROKEN = [
         "search-cycle-limit: 4",
         "search-cycle-limit: -4",
         "search-cycle-limit",
-        "whole number",
+        "must be within 1..20",
     ),
 ]
 

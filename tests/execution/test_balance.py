@@ -14,8 +14,7 @@ from lbw_engine.cli.execute import execute_plan
 from lbw_engine.do import plan as planmod
 from lbw_engine.do.balance import unbalanced
 from lbw_engine.do.model import Body, ExecModel
-from lbw_engine.paths import default_rules_dir
-from lbw_engine.rules import commands as commandrules
+from lbw_engine.rules import load_rules
 from perception.world.scenario import load
 
 DATA = Path(__file__).resolve().parent / "data"
@@ -43,7 +42,7 @@ def test_unbalanced(cubes, tips):
 
 
 def test_seed_1048_learned_plan_executes_and_verifies():
-    rules = commandrules.load_dir(default_rules_dir())
+    rules = load_rules().commands
     plan = planmod.load(DATA / "gen-1048-nominal.plan.json")
     result = execute_plan(plan, load(DATA / "gen-1048-nominal.yaml"), rules)
     assert result.success, result.message

@@ -4,6 +4,7 @@ Each case starts the hand somewhere, expands one row of rules/commands.yaml
 and compares the emitted primitives (world coordinates) with the row.
 """
 
+import shutil
 from pathlib import Path
 
 import pytest
@@ -12,10 +13,10 @@ from lbw_engine.do.expander import Context, Expander
 from lbw_engine.do.model import Body, ExecModel
 from lbw_engine.errors import InputError
 from lbw_engine.paths import default_rules_dir
-from lbw_engine.rules import commands as commandrules
+from lbw_engine.rules import load_rules
 from lbw_engine.rules.commands import Step
 
-RULES = commandrules.load_dir(default_rules_dir())
+RULES = load_rules().commands
 A = RULES.approach_height
 P1 = (40.0, 120.0, 25.0)  # a brick's centre on the table
 P2 = (-60.0, 200.0, 80.0)
@@ -90,18 +91,18 @@ def test_null_moves_are_not_emitted():
 
 
 BAD = [
-    ("unknown-key", "approach_height: 200.0", "approach_height: 200.0\nspeed: 3",
+    ("unknown-key", "approach-height: 200.0", "approach-height: 200.0\nspeed: 3",
      "unknown key 'speed'"),
     ("unknown-macro", "      - [go-pickpos, pos1]", "      - [go-pikpos, pos1]",
      "unknown macro or primitive 'go-pikpos'"),
-    ("recursion", "      - [amove, {xy: hand-pos, z: approach}]", "      - [PICK, hand-pos]",
+    ("recursion", "      - [amove, {xy: hand-pos, z: approach-height}]", "      - [PICK, hand-pos]",
      "recursive macro expansion"),
     ("arity", "      - [amove, pos1]\n      - [amove, pos2]", "      - [amove, pos1, pos2]",
      "'amove' takes 1 argument(s), got 2"),
     ("unknown-name", "      - [amove, pos2]", "      - [amove, pos3]", "unknown name 'pos3'"),
     ("bad-goal-source", "{goal: [object], steps: [[PICK", "{goal: [thing], steps: [[PICK",
      "unknown name 'thing'"),
-    ("not-orthonormal", "    - [0.0, 0.0, -1.0]", "    - [0.0, 0.0, -2.0]", "orthonormal"),
+    ("not-orthonormal", "    - [0.0, 0.0, -1.0]", "    - [0.0, 0.0, -0.5]", "orthonormal"),
 ]
 
 
@@ -110,10 +111,11 @@ def test_bad_commands_yaml_is_reported_with_file_and_line(tmp_path, old, new, ne
     text = (Path(default_rules_dir()) / "commands.yaml").read_text()
     assert old in text
     bad = text.replace(old, new, 1)
-    path = tmp_path / "commands.yaml"
+    shutil.copytree(default_rules_dir(), tmp_path / "rules")
+    path = tmp_path / "rules" / "commands.yaml"
     path.write_text(bad)
     with pytest.raises(InputError) as exc:
-        commandrules.load(path)
+        load_rules(tmp_path / "rules")
     err = exc.value
     assert needle in err.message
     assert err.file == str(path) and err.line is not None

@@ -6,8 +6,8 @@ from pathlib import Path
 from lbw_engine.cli import main
 from lbw_engine.cli.execute import execute_plan
 from lbw_engine.do import plan as planmod
-from lbw_engine.paths import bundled_scenario, default_rules_dir
-from lbw_engine.rules import commands as commandrules
+from lbw_engine.paths import bundled_scenario
+from lbw_engine.rules import load_rules
 from perception.world.scenario import load
 
 DATA = Path(__file__).resolve().parents[1] / "data"
@@ -25,7 +25,7 @@ def _goalless(tmp_path: Path) -> Path:
 def test_missing_goal_fails_the_task(tmp_path):
     plan = planmod.load(_goalless(tmp_path))
     result = execute_plan(plan, load(bundled_scenario("build-table")),
-                          commandrules.load_dir(default_rules_dir()))
+                          load_rules().commands)
     assert not result.success
     assert "none of its goal sources" in result.message
     assert result.report["stage"] == "instantiation"

@@ -16,8 +16,8 @@ sys.path.insert(0, str(ROOT))
 from bench.bench_layouts import random_layout, with_layout  # noqa: E402
 from lbw_engine.cli.execute import execute_plan  # noqa: E402
 from lbw_engine.do import plan as planmod  # noqa: E402
-from lbw_engine.paths import bundled_scenario, default_rules_dir  # noqa: E402
-from lbw_engine.rules import commands as commandrules  # noqa: E402
+from lbw_engine.paths import bundled_scenario  # noqa: E402
+from lbw_engine.rules import load_rules  # noqa: E402
 from perception.world.scenario import load  # noqa: E402
 
 CASES = [(name, seed) for name in ("build-table", "inverted-arch") for seed in (11, 12, 13)]
@@ -31,7 +31,7 @@ def test_plan_verifies_in_a_random_layout(name, seed):
     assert {v["shape"] for v in layout.values()} == shapes
     sc = with_layout(bundled_scenario(name), layout, seed)
     plan = planmod.load(ROOT / "tests" / "data" / f"{name}.plan.json")
-    result = execute_plan(plan, sc, commandrules.load_dir(default_rules_dir()))
+    result = execute_plan(plan, sc, load_rules().commands)
     assert result.success, result.message
     assert result.report["mismatches"] == []
 

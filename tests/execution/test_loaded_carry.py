@@ -19,13 +19,12 @@ from lbw_engine.do import plan as planmod
 from lbw_engine.do.balance import steadied, unbalanced
 from lbw_engine.do.model import Body, ExecModel
 from lbw_engine.do.tracing import format_commands
-from lbw_engine.paths import default_rules_dir
-from lbw_engine.rules import commands as commandrules
+from lbw_engine.rules import load_rules
 from perception.world.scenario import load
 
 DATA = Path(__file__).resolve().parent / "data"
 SUPPORTS = ("on", "on-multiple")
-RULES = commandrules.load_dir(default_rules_dir())
+RULES = load_rules().commands
 
 
 def _held_plank(riders: dict[str, float]) -> ExecModel:

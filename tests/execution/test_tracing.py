@@ -8,11 +8,10 @@ from lbw_engine.do import plan as planmod
 from lbw_engine.do.model import Body, ExecModel
 from lbw_engine.do.tracing import format_commands, trace
 from lbw_engine.errors import InputError, TaskFailed
-from lbw_engine.paths import default_rules_dir
-from lbw_engine.rules import commands as commandrules
+from lbw_engine.rules import load_rules
 
 DATA = Path(__file__).resolve().parent.parent / "data"
-RULES = commandrules.load_dir(default_rules_dir())
+RULES = load_rules().commands
 SIZES = {"short-brick": (40.0, 40.0, 50.0), "planar-brick": (160.0, 60.0, 20.0),
          "medium-brick": (30.0, 30.0, 60.0), "brick": (30.0, 30.0, 50.0),
          "plate": (120.0, 100.0, 10.0), "cube": (40.0, 40.0, 40.0)}

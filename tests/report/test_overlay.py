@@ -10,8 +10,6 @@ import pytest
 from lbw_engine.cli.execute import execute_plan
 from lbw_engine.cli.watch import watch
 from lbw_engine.do import plan as planmod
-from lbw_engine.paths import default_rules_dir
-from lbw_engine.rules import commands as commandrules
 from lbw_engine.rules import load_rules
 from lbw_engine.see.actions import to_actions
 from perception.pictures.overlay import (
@@ -79,7 +77,7 @@ def test_execution_recorder_renders_the_robot(tmp_path):
     plan = planmod.parse(json.loads((ROOT / "tests/data/inverted-arch.plan.json").read_text()),
                          file="plan.json")
     recorder = ExecutionRecorder(tmp_path / "exec.mp4", every=3, keep_every=5.0, scale=1)
-    result = execute_plan(plan, sc, commandrules.load_dir(default_rules_dir()), on_step=recorder)
+    result = execute_plan(plan, sc, load_rules().commands, on_step=recorder)
     recorder.close()
     assert result.success
     cap = cv2.VideoCapture(str(tmp_path / "exec.mp4"))

@@ -123,24 +123,22 @@ def test_run_report_of_a_real_run(tmp_path):
     """watch (with the monitor) → analyze → execute (recorded) → report.html, in Chromium."""
     from lbw_engine.cli.execute import execute_plan
     from lbw_engine.do import plan as planmod
-    from lbw_engine.paths import default_rules_dir
-    from lbw_engine.rules import commands as commandrules
-    from lbw_engine.rules import load_rules as load_recognition_rules
+    from lbw_engine.rules import load_rules
     from lbw_engine.see.actions import to_actions
-    from lbw_engine.understand import RelationTable, analyze, load_rules, parse_actions
+    from lbw_engine.understand import RelationTable, analyze, parse_actions
     from perception.pictures.overlay import ExecutionRecorder, record_demonstration
     from perception.pictures.report import run_report
     from perception.world.generator import generate
 
     sc = generate(5, structures=["tower"]).scenario()
-    rec, _, kept = record_demonstration(sc, load_recognition_rules(), None, keep_every=3.0,
+    rec, _, kept = record_demonstration(sc, load_rules(), None, keep_every=3.0,
                                         scale=1)
     actions = to_actions(rec)
-    arules = load_rules()
+    arules = load_rules().analysis
     plan = analyze(parse_actions(actions, RelationTable(arules.tolerance)), arules).plan
     recorder = ExecutionRecorder(None, every=10, keep_every=5.0, scale=1)
     result = execute_plan(planmod.parse(plan, file="plan.json"), sc,
-                          commandrules.load_dir(default_rules_dir()), on_step=recorder)
+                          load_rules().commands, on_step=recorder)
     html = run_report(sc, actions, plan, write_plan_text(plan), result,
                       frames=kept + recorder.kept)
     path = tmp_path / "report.html"

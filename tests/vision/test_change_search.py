@@ -43,7 +43,7 @@ def _place_on_block():
 
 
 CASES = [  # (id, scenes, snapshot region, expected)
-    ("pick-disappeared", _pick, Region3D.around((T[0], T[1], 25), (35, 35, 55)), "disappeared"),
+    ("pick-vanished", _pick, Region3D.around((T[0], T[1], 25), (35, 35, 55)), "vanished"),
     ("place-appeared", _place,  # the table spot the search found: region just above it
      snapshot_region(Region3D.around((T[0], T[1], -0.5), (30, 30, 1)), BRICK), "appeared"),
     ("touch-nochange", _touch, Region3D.around((T[0], T[1], 25), (35, 35, 55)), "nochange"),
@@ -106,7 +106,7 @@ def test_snapshots_are_values_that_can_be_judged_later():
     cd.attention(Region3D.around((T[0], T[1], 25), (35, 35, 55)))
     first = cd.take(film.shoot(OTHERS + start))
     last = cd.take(film.shoot(OTHERS + end))
-    assert cd.judge(first, last) == "disappeared"
+    assert cd.judge(first, last) == "vanished"
     assert cd.judge(last, first) == "appeared"
     assert cd.judge(first, first) == "nochange"
     cd.attention(Region3D.around((0, 100, 25), (35, 35, 55)))

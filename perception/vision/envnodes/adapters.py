@@ -12,37 +12,38 @@ from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from lbw_engine.errors import InputError
-from lbw_engine.model.env import EnvModel, EnvNode
+from lbw_engine.model.env import EnvModel
 from lbw_engine.rules import RuleSet
-from lbw_engine.see.detectors import ActView, Detection, DetectorRegistry
+from lbw_engine.see.detectors import ActView, Detection, DetectorRegistry, Query
 from lbw_engine.see.recognizer import Recognizer
 from perception.vision.camera import Camera
 from perception.vision.envnodes.eyes import MIN_TRANSFER_S, NEAR_SPEED, SETTLE_FRAMES, Eyes, _vec
+from perception.vision.envnodes.snapshots import ChangeNode, CoplanarNode
 from perception.vision.frames import Frame
 
 
 class _Node:
     """Adapter: one detector name of the rules answering through the shared Eyes."""
 
-    answers: dict[str, str] = {}  # event -> Eyes method
+    calls: dict[str, str] = {}  # detector method (its vocabulary) -> Python method
+    answers: frozenset = frozenset()
 
     def __init__(self, eyes: Eyes, name: str) -> None:
         """Serve detector ``name``."""
         self.eyes, self.name = eyes, name
+        self.methods = frozenset(self.calls)
 
     def begin_frame(self, t: float, frame: Any) -> None:
         """Feed the frame to the shared detectors (once per frame)."""
         self.eyes.begin_frame(t, frame)
 
-    def query(self, event: str, base: Sequence[EnvNode], target: Sequence[EnvNode],
-              env: EnvModel) -> Detection | None:
-        """Answer ``event`` from the VFDs."""
-        method = self.answers.get(event)
-        if method is None and event in self.eyes.rules.motion_features.ranges:
-            method = "motion_value"
+    def query(self, query: Query, env: EnvModel) -> Detection | None:
+        """Answer the query's method from the VFDs."""
+        method = self.calls.get(query.method)
         if method is None:
-            raise InputError(f"detector {self.name!r} cannot answer the event {event!r}")
-        return getattr(self, method)(base, target, env)
+            raise InputError(f"detector {self.name!r} cannot answer {query.method!r} "
+                             f"(asked for the event {query.event!r})")
+        return getattr(self, method)(query.base, query.target, env)
 
     def snapshot(self, act: ActView, env: EnvModel) -> Any:
         """No snapshot for this detector."""
@@ -54,7 +55,7 @@ class _Node:
 
 
 class _Objects(_Node):
-    answers = {"loc-exist": "loc_exist"}
+    calls = {"locate": "loc_exist"}
 
     def loc_exist(self, base, target, env) -> Detection | None:
         """Object-finder: identify and locate the objects (Sec. III-B)."""
@@ -62,7 +63,7 @@ class _Objects(_Node):
 
 
 class _Motion(_Node):
-    answers = {"found-moving": "found_moving"}
+    calls = {"moving-target": "found_moving"}
 
     def found_moving(self, base, target, env) -> Detection | None:
         """Motion-detector: a new moving hand (Sec. III-C1)."""
@@ -70,7 +71,7 @@ class _Motion(_Node):
 
 
 class _Hand(_Node):
-    answers = {"disappeared": "disappeared", "far": "far"}
+    calls = {"lost": "disappeared", "away": "far", "motion-feature": "motion_value"}
 
     def disappeared(self, base, target, env) -> Detection | None:
         """Hand-tracker lost the hand at the edge."""
@@ -89,7 +90,7 @@ class _Hand(_Node):
 
 
 class _HandObject(_Node):
-    answers = {"join": "join", "split": "split"}
+    calls = {"contact": "join", "separation": "split"}
 
     def join(self, base, target, env) -> Detection | None:
         """Hand (with what it holds) touches the target."""
@@ -101,7 +102,7 @@ class _HandObject(_Node):
 
 
 class _Search(_Node):
-    answers = {"near": "near"}
+    calls = {"visual-search": "near"}
 
     def near(self, base, target, env) -> Detection | None:
         """Guided visual search below the hand, confirmed in the env model (Sec. III-E)."""
@@ -125,6 +126,7 @@ class _Snapshots(_Node):
         """Serve snapshots through ``node``."""
         super().__init__(eyes, name)
         self.node = node
+        self.answers = frozenset(node.answers)
 
     def snapshot(self, act: ActView, env: EnvModel) -> Any:
         """Take the VFD's snapshot of the current frame for ``act``."""
@@ -151,6 +153,18 @@ def perception_detectors(eyes: Eyes) -> dict[str, Any]:
         "change-detector": _Snapshots(eyes, "change-detector", eyes.change),
         "coplanar-detector": _Snapshots(eyes, "coplanar-detector", eyes.coplanar),
     }
+
+
+# What each perception detector answers (lbw check validates rules against it).
+VOCABULARY: dict[str, dict[str, frozenset]] = {
+    "object-finder": {"methods": frozenset(_Objects.calls), "answers": frozenset()},
+    "motion-detector": {"methods": frozenset(_Motion.calls), "answers": frozenset()},
+    "hand-tracker": {"methods": frozenset(_Hand.calls), "answers": frozenset()},
+    "visual-search": {"methods": frozenset(_Search.calls), "answers": frozenset()},
+    "hand-object-tracker": {"methods": frozenset(_HandObject.calls), "answers": frozenset()},
+    "change-detector": {"methods": frozenset(), "answers": frozenset(ChangeNode.answers)},
+    "coplanar-detector": {"methods": frozenset(), "answers": frozenset(CoplanarNode.answers)},
+}
 
 
 def watch_frames(frames: Iterable[Frame], cameras: Mapping[str, Camera],

@@ -38,9 +38,6 @@ FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
 CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for CoplDet)
 MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
 
-# The change-detector's results, named as the rules' SilDiff values (rules/analysis.yaml).
-SIL_DIFF = {DISAPPEARED: "decreased", APPEARED: "increased", NO_CHANGE: "no-change"}
-COPL_DET = {1: "positive", -1: "negative", 0: "unchanged"}
 
 
 def box(node: EnvNode, center: Sequence[float] | None = None) -> Region3D:
@@ -58,6 +55,8 @@ def held_box(eyes: Eyes, env: EnvModel) -> tuple[EnvNode, Region3D] | None:
 
 class ChangeNode:
     """SilDiff: change-detector snapshots of a LocalMotion's target region (Sec. III-D1)."""
+
+    answers = (APPEARED, DISAPPEARED, NO_CHANGE)  # the change-detector's own words
 
     def __init__(self, eyes: Eyes) -> None:
         """A change-detector on the shared windows."""
@@ -132,7 +131,7 @@ class ChangeNode:
                 x = self.placed_x(x, float(rel[0] + self.eyes.spot_grip[0]),
                                   (float(rel[1]), z), held[0].size, last)
             pos = np.array([x, rel[1], z])
-        return Detection(value=SIL_DIFF[result],
+        return Detection(value=result,
                          position=tuple(float(c) for c in pos) if pos is not None else None)
 
     def placed_x(self, changed: float, released: float, yz: tuple[float, float],
@@ -207,6 +206,8 @@ class ChangeNode:
 class CoplanarNode:
     """CoplDet: are the moved block's faces coplanar with a neighbour's (Fig. 5, ALIGN)?"""
 
+    answers = (1, 0, -1)  # difference of truth values, end minus start (Table V caption)
+
     def __init__(self, eyes: Eyes) -> None:
         """A coplanar-detector on the shared windows."""
         self.eyes = eyes
@@ -260,7 +261,7 @@ class CoplanarNode:
         sign = 1 if last - first else -1 if first - last else 0
         # the neighbours whose faces became coplanar with the moved block's (ALIGN's `found`)
         found = tuple(sorted({name for name, _ in last - first}))
-        return Detection(value=COPL_DET[sign], found=found)
+        return Detection(value=sign, found=found)
 
 
 def _face(region: Region3D, face: str) -> float:

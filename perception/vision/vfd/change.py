@@ -21,7 +21,7 @@ from perception.vision.frames import Frame
 from perception.vision.vfd.base import DARK_MAX, HAND_BAND, VFD, VIEWS, Region3D, band, centroid
 from perception.vision.vfd.resources import VisionResources
 
-APPEARED, DISAPPEARED, NO_CHANGE = "appeared", "disappeared", "nochange"
+APPEARED, DISAPPEARED, NO_CHANGE = "appeared", "vanished", "nochange"  # Sec. III-D1
 AREA_THRESHOLD = 0.12  # changed fraction of the region's image area that counts as a change
 
 

@@ -1,8 +1,8 @@
-"""Parsing of each rule file into the typed records of ``rules``.
+"""Parsing of the recognition rule files (Tables III-VIII, Sec. V-B4) into typed records.
 
 Each reader checks the shape of its file (unknown keys, wrong types, names
-that are not declared earlier in the same file) and duplicate rows; checks that
-span files are in ``rulecheck``.
+that are not declared earlier in the same file, numbers out of range) and
+duplicate rows; checks that span files are in ``lbw_engine.rules.check``.
 """
 
 from __future__ import annotations
@@ -10,19 +10,16 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from lbw_engine import rules as R
+from lbw_engine.rules import records as R
 from lbw_engine.rules.reader import Reader
-from lbw_engine.yamlio import line_of, load_file
+from lbw_engine.yamlio import line_of
+
+ENV_CLASSES = ("World", "HandLoc", "Loc", "Table")  # Fig. 8
 
 
 def _top(directory: Path, name: str, required: tuple[str, ...], optional=()) -> tuple[Reader, dict]:
     """Load one rule file and check its top-level keys."""
-    path = directory / name
-    reader = Reader(path)
-    data = load_file(path)
-    data = reader.mapping(data, "the file")
-    reader.keys(data, "the file", required, optional)
-    return reader, data
+    return Reader.load(directory / name, required, optional)
 
 
 def _binding(reader: Reader, row: dict, key: str, default: str | None = "none") -> R.Binding:
@@ -54,15 +51,15 @@ def _events(directory: Path):
         if isinstance(key, bool):
             reader.fail("an event name reads as a boolean; quote the name", table, key)
         spec = reader.mapping(spec, f"event {key!r}", table, key)
-        reader.keys(spec, f"event {key!r}", ("detector", "nodes"), ("meaning",))
+        reader.keys(spec, f"event {key!r}", ("detector", "method", "nodes"), ("meaning",))
         detector = reader.one_of(spec["detector"], detectors, "detector", spec, "detector")
+        method = reader.name(spec, "method", f"event {key!r}")
         nodes = reader.sequence(spec["nodes"], "nodes", spec, "nodes")
         for node in nodes:
-            reader.one_of(
-                node, ("World", "HandLoc", "Loc", "Table"), "ENV-node class", spec, "nodes"
-            )
+            reader.one_of(node, ENV_CLASSES, "ENV-node class", spec, "nodes")
         at = R.Where(reader.file, line_of(table, key))
-        events[key] = R.EventDef(key, str(spec.get("meaning", "")), detector, tuple(nodes), at)
+        events[key] = R.EventDef(key, str(spec.get("meaning", "")), detector, method,
+                                 tuple(nodes), at)
     return detectors, events
 
 
@@ -74,13 +71,15 @@ def _motion_features(directory: Path, events: dict[str, R.EventDef]) -> R.Motion
         reader.one_of(event, events, "event", table, event)
         spec = reader.mapping(spec, f"speed range {event!r}", table, event)
         reader.keys(spec, f"speed range {event!r}", ("low", "high"))
-        low, high = reader.number(spec, "low", "speed"), reader.number(spec, "high", "speed")
+        low = reader.number(spec, "low", "speed 'low'", 0.0, 1e5)
+        high = reader.number(spec, "high", "speed 'high'", 0.0, 1e5)
         if not 0 <= low < high:
             reader.fail(f"speed range {event!r} needs 0 <= low < high", table, event)
         ranges[event] = (low, high)
     angles = reader.mapping(data["angles"], "angles", data, "angles")
     reader.keys(angles, "angles", ("down", "up"))
-    down, up = reader.number(angles, "down", "angle"), reader.number(angles, "up", "angle")
+    down = reader.number(angles, "down", "angle 'down'", 0.0, 180.0)
+    up = reader.number(angles, "up", "angle 'up'", 0.0, 180.0)
     if not 0 < down < up < 180:
         reader.fail("angles need 0 < down < up < 180 degrees", data, "angles")
     rows: list[R.FeatureValueRow] = []
@@ -144,22 +143,22 @@ def _operations(directory: Path, events, motions):
         source = reader.one_of(spec["source"], R.FEATURE_SOURCES, "feature source", spec, "source")
         values: tuple[Any, ...] = ()
         kinds: dict[str, str] = {}
+        answers: dict[Any, Any] = {}
         detector = None
         if source == "snapshot-diff":
             if "detector" not in spec or "values" not in spec:
                 reader.fail(f"feature {name!r} needs a detector and its values", table, name)
-            detector = spec["detector"]
-            values = tuple(reader.sequence(spec["values"], "values", spec, "values"))
+            detector = reader.name(spec, "detector", f"feature {name!r}")
+            answers = _answers(reader, spec, name)
+            values = tuple(answers)
         elif source == "final-event":
             values = tuple(events)
-        elif source == "holding":
+        elif source == "hand-holds":
             values = (True, False)
         else:
             kinds = dict(reader.mapping(spec.get("kinds"), "kinds", spec, "kinds"))
             for kind in kinds:
-                reader.one_of(
-                    kind, ("World", "HandLoc", "Loc", "Table"), "ENV-node class", spec, "kinds"
-                )
+                reader.one_of(kind, ENV_CLASSES, "ENV-node class", spec, "kinds")
             values = tuple(kinds.values())
         takes = {
             "snapshot-diff": ("detector", "values"),
@@ -170,7 +169,7 @@ def _operations(directory: Path, events, motions):
             if key in spec and key not in takes.get(source, ()):
                 reader.fail(f"feature {name!r} of source {source!r} takes no {key!r}", spec, key)
         at = R.Where(reader.file, line_of(table, name))
-        features[name] = R.FeatureDef(name, source, detector, values, kinds, at)
+        features[name] = R.FeatureDef(name, source, detector, values, kinds, at, answers)
     classification: dict[str, tuple[R.ClassRow, ...]] = {}
     table = reader.mapping(data["classification"], "classification", data, "classification")
     for motion, rows in table.items():
@@ -196,6 +195,24 @@ def _operations(directory: Path, events, motions):
             out.append(R.ClassRow(motion, dict(when), operation, at, label))
         classification[motion] = tuple(out)
     return features, classification
+
+
+def _answers(reader: Reader, spec: dict, name: str) -> dict[Any, Any]:
+    """A snapshot-diff feature's values: feature value -> the detector's answer."""
+    table = reader.mapping(spec["values"], f"values of feature {name!r} (value: answer)",
+                           spec, "values")
+    seen: dict[Any, Any] = {}
+    for value, answer in table.items():
+        if isinstance(value, bool) or not isinstance(value, str | int):
+            reader.fail(f"feature {name!r}: value {value!r} must be a name", table, value)
+        if isinstance(answer, bool) or not isinstance(answer, str | int):
+            reader.fail(f"feature {name!r}: the detector's answer for {value!r} must be a "
+                        "name or a whole number", table, value)
+        if answer in seen:
+            reader.fail(f"feature {name!r}: {value!r} and {seen[answer]!r} stand for the same "
+                        f"answer {answer!r}", table, value)
+        seen[answer] = value
+    return dict(table)
 
 
 def _template(reader: Reader, item: Any, container: Any, index: int, relations) -> R.Template:
@@ -225,17 +242,27 @@ def _template(reader: Reader, item: Any, container: Any, index: int, relations) 
     return R.Template(rtype, str(item[1]), str(item[2]), wrt, when, at)
 
 
+def _roles(reader: Reader, data: dict, relations: tuple[str, ...]) -> R.Roles:
+    """The relations named by role: hold, and support single / multiple."""
+    roles = reader.mapping(data["roles"], "roles", data, "roles")
+    reader.keys(roles, "roles", ("hold", "support"))
+    support = reader.mapping(roles["support"], "roles.support", roles, "support")
+    reader.keys(support, "roles.support", ("single", "multiple"))
+    hold = reader.one_of(roles["hold"], relations, "relation", roles, "hold")
+    single = reader.one_of(support["single"], relations, "relation", support, "single")
+    multiple = reader.one_of(support["multiple"], relations, "relation", support, "multiple")
+    if len({hold, single, multiple}) < 3:
+        reader.fail("the hold, single and multiple roles need three different relations",
+                    data, "roles")
+    return R.Roles(hold, single, multiple)
+
+
 def _effects(directory: Path):
-    reader, data = _top(
-        directory, "effects.yaml", ("relations", "hold-relation", "support-relations", "operations")
-    )
-    relations = tuple(reader.sequence(data["relations"], "relations", data, "relations"))
-    hold = reader.one_of(data["hold-relation"], relations, "relation", data, "hold-relation")
-    support = tuple(
-        reader.sequence(data["support-relations"], "support-relations", data, "support-relations")
-    )
-    for name in support:
-        reader.one_of(name, relations, "relation", data, "support-relations")
+    reader, data = _top(directory, "effects.yaml", ("relations", "roles", "operations"))
+    relations = reader.names(data, "relations", "relations")
+    if len(set(relations)) != len(relations):
+        reader.fail("a relation is listed twice", data, "relations")
+    roles = _roles(reader, data, relations)
     effects: dict[str, R.EffectRule] = {}
     table = reader.mapping(data["operations"], "operations", data, "operations")
     for op, spec in table.items():
@@ -270,7 +297,7 @@ def _effects(directory: Path):
                 )
         at = R.Where(reader.file, line_of(table, op))
         effects[op] = R.EffectRule(op, dict(bind), groups["remove"], groups["add"], dict(move), at)
-    return relations, hold, support, effects
+    return relations, roles, effects
 
 
 def _transitions(directory: Path) -> dict[tuple[str, str], R.TransitionRow]:
@@ -337,36 +364,35 @@ def _redirections(directory: Path) -> dict[str, tuple[R.RedirectionRow, ...]]:
     return {m: tuple(rs) for m, rs in out.items()}
 
 
+# constants.yaml: every constant the engine and the detectors read, with its kind and
+# the range lbw check enforces (docs/engine.md lists them with their meaning).
+CONSTANTS: dict[str, tuple[str, float, float]] = {
+    "attention-region": ("sizes", 5.0, 300.0),  # mm, W x D x H
+    "search-cycle-limit": ("count", 1, 20),
+    "repositioning-distance": ("number", 10.0, 600.0),  # mm
+    "motion-detector-interval": ("number", 0.01, 1.0),  # s
+    "detect-passes-per-frame": ("count", 1, 64),
+    "place-clearance": ("number", 0.0, 20.0),  # mm
+    "place-overlap-limit": ("number", 0.0, 50.0),  # mm
+    "hand-velocity-window": ("number", 0.05, 2.0),  # s
+    "far-margin": ("number", 5.0, 300.0),  # mm
+}
+
+
 def _constants(directory: Path) -> dict[str, Any]:
-    reader, data = _top(
-        directory,
-        "constants.yaml",
-        (
-            "attention-region",
-            "search-cycle-limit",
-            "repositioning-distance",
-            "motion-detector-interval",
-            "detect-passes-per-frame",
-            "place-clearance",
-            "place-overlap-limit",
-            "hand-velocity-window",
-            "far-margin",
-        ),
-    )
-    region = reader.sequence(data["attention-region"], "attention-region", data, "attention-region")
-    if len(region) != 3 or not all(isinstance(v, int | float) and v > 0 for v in region):
-        reader.fail("attention-region must be three sizes in mm", data, "attention-region")
-    for key in ("search-cycle-limit", "detect-passes-per-frame"):
-        if not isinstance(data[key], int) or isinstance(data[key], bool) or data[key] < 1:
-            reader.fail(f"{key} must be a whole number >= 1", data, key)
-    for key in ("repositioning-distance", "motion-detector-interval", "hand-velocity-window",
-                "far-margin"):
-        if reader.number(data, key, "constant") <= 0:
-            reader.fail(f"{key} must be positive", data, key)
-    for key in ("place-clearance", "place-overlap-limit"):
-        if reader.number(data, key, "constant") < 0:
-            reader.fail(f"{key} must be zero or more", data, key)
-    return {k: (tuple(v) if isinstance(v, list) else v) for k, v in data.items()}
+    reader, data = _top(directory, "constants.yaml", tuple(CONSTANTS))
+    out: dict[str, Any] = {}
+    for key, (kind, low, high) in CONSTANTS.items():
+        if kind == "sizes":
+            out[key] = reader.vector(data, key, 3, key, low, high)
+        elif kind == "count":
+            value = data[key]
+            if isinstance(value, bool) or not isinstance(value, int):
+                reader.fail(f"{key} must be a whole number", data, key)
+            out[key] = int(reader.number(data, key, key, low, high))
+        else:
+            out[key] = reader.number(data, key, key, low, high)
+    return out
 
 
 def read_all(directory: Path) -> R.RuleSet:
@@ -375,7 +401,7 @@ def read_all(directory: Path) -> R.RuleSet:
     motion_features = _motion_features(directory, events)
     motions = _motions(directory)
     features, classification = _operations(directory, events, motions)
-    relations, hold, support, effects = _effects(directory)
+    relations, roles, effects = _effects(directory)
     return R.RuleSet(
         directory=directory,
         detectors=detectors,
@@ -385,8 +411,7 @@ def read_all(directory: Path) -> R.RuleSet:
         features=features,
         classification=classification,
         relations=relations,
-        hold_relation=hold,
-        support_relations=support,
+        roles=roles,
         effects=effects,
         transitions=_transitions(directory),
         redirections=_redirections(directory),
