@@ -35,7 +35,7 @@ CHILD = r"""
 import json, resource, sys, time
 from lbw_engine.rules import load_rules
 from lbw_engine.cli.watch import watch
-from perception.scenario import load, load_text
+from perception.world.scenario import load, load_text
 text = sys.argv[1]
 sc = load(text) if text.endswith(".yaml") else load_text(text, "<long>")
 t0 = time.perf_counter()
