@@ -39,7 +39,7 @@ from perception.world.scenario import load, load_text
 text = sys.argv[1]
 sc = load(text) if text.endswith(".yaml") else load_text(text, "<long>")
 t0 = time.perf_counter()
-rec, eyes = watch(sc, load_rules())
+rec, hand = watch(sc, load_rules())
 wall = time.perf_counter() - t0
 ops = [n.operation for n in rec.root.history] if rec.root else []
 print(json.dumps({"wall": wall, "demo": rec.t, "ops": len(ops),
@@ -68,7 +68,7 @@ def real_time(name: str = "build-table") -> dict:
     """End-to-end and recognizer-only real-time factors, and the pixel fraction."""
     from lbw_engine.rules import load_rules
     from perception.vision.camera import default_cameras
-    from perception.vision.envnodes.adapters import watch_frames
+    from perception.vision.envnodes.registry import watch_frames
     from perception.world.scenario import load
     from perception.world.stream import demonstration_frames, teach_names
 
@@ -88,7 +88,7 @@ def real_time(name: str = "build-table") -> dict:
             yield f
 
     t0, c0 = time.perf_counter(), time.process_time()
-    rec, eyes = watch_frames(timed(demonstration_frames(sc, cams)), cams, sc.shapes,
+    rec, hand = watch_frames(timed(demonstration_frames(sc, cams)), cams, sc.shapes,
                              load_rules(), teach_names(sc))
     wall = time.perf_counter() - t0
     cpu = time.process_time() - c0
@@ -97,7 +97,7 @@ def real_time(name: str = "build-table") -> dict:
     return {"demo_s": demo, "wall_s": wall, "rtf_end_to_end": demo / wall,
             "rtf_recognizer": demo / max(1e-9, wall - producing[0]),
             "rtf_end_to_end_cpu": demo / cpu,
-            "pixel_fraction": sum(eyes.pixels) / len(eyes.pixels) / full}
+            "pixel_fraction": sum(hand.sight.pixels) / len(hand.sight.pixels) / full}
 
 
 def main(argv: list[str]) -> dict:

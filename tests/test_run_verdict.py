@@ -7,8 +7,11 @@ from pathlib import Path
 
 from lbw_engine.cli import main
 from lbw_engine.cli import run as runmod
+from lbw_engine.rules import load_rules
 from perception.world.groundtruth import expected_operations
 from perception.world.scenario import load
+
+RULES = load_rules()
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENARIO = ROOT / "scenarios" / "place-and-align.yaml"
@@ -20,20 +23,20 @@ def _ops(names):
 
 def test_exact_counts_a_repeated_closing_operation_once():
     sc = load(SCENARIO)
-    truth = list(expected_operations(sc))
-    split_leave = runmod.compare_with_truth(sc, _ops([*truth, truth[-1]]))
+    truth = list(expected_operations(sc, RULES))
+    split_leave = runmod.compare_with_truth(sc, _ops([*truth, truth[-1]]), RULES)
     assert split_leave["exact"] and split_leave["difference"] == "identical"
     swapped = list(truth)
     swapped[1] = "NO-OP" if truth[1] != "NO-OP" else "PICK"
-    wrong = runmod.compare_with_truth(sc, _ops(swapped))
+    wrong = runmod.compare_with_truth(sc, _ops(swapped), RULES)
     assert not wrong["exact"] and wrong["difference"].startswith("at #1: expected")
 
 
 def test_a_recognition_that_does_not_verify_exits_1_with_all_files(tmp_path, monkeypatch):
     real = runmod.compare_with_truth
 
-    def one_op_wrong(scenario, actions):
-        rec = real(scenario, actions)
+    def one_op_wrong(scenario, actions, rules):
+        rec = real(scenario, actions, rules)
         return dict(rec, exact=False, difference="at #1: expected PICK, got NO-OP")
 
     monkeypatch.setattr(runmod, "compare_with_truth", one_op_wrong)
@@ -52,10 +55,11 @@ def test_lbw_watch_exits_0_when_exact_and_1_when_not(tmp_path, monkeypatch, caps
     assert main(["watch", str(SCENARIO), "--out", str(tmp_path / "ok")]) == 0
     ok = json.loads((tmp_path / "ok" / "actions.json").read_text())
     assert [op["operation"] for op in ok["operations"]] == \
-        list(expected_operations(load(SCENARIO)))
+        list(expected_operations(load(SCENARIO), RULES))
     real = runmod.compare_with_truth
-    monkeypatch.setattr(runmod, "compare_with_truth", lambda sc, actions: dict(
-        real(sc, actions), exact=False, difference="at #3: expected PLACE-ON-TABLE, got NO-OP"))
+    monkeypatch.setattr(runmod, "compare_with_truth", lambda sc, actions, rules: dict(
+        real(sc, actions, rules), exact=False,
+        difference="at #3: expected PLACE-ON-TABLE, got NO-OP"))
     assert main(["watch", str(SCENARIO), "--out", str(tmp_path / "bad")]) == 1
     assert "at #3: expected PLACE-ON-TABLE, got NO-OP" in capsys.readouterr().err
     assert (tmp_path / "bad" / "actions.json").exists()  # published all the same

@@ -31,6 +31,7 @@ from lbw_engine.report.metrics import (
     format_table,
     plan_final_relations,
     summarize,
+    support_facts,
 )
 
 HELP = "benchmark watch → analyze → execute on seeded random scenarios at three noise levels"
@@ -81,15 +82,11 @@ def teach_rename(actions: dict[str, Any], scenario: Any) -> dict[str, str]:
     return out
 
 
-def true_final(scenario: Any) -> set:
+def true_final(scenario: Any, roles: Any) -> set:
     """(object, supports) after the demonstration, for every object the hand moved."""
     moved = {s.obj for s in scenario.demonstration if s.kind == "pick"}
-    out = set()
-    for rel in scenario.states[-1].relations():
-        if rel[1] in moved and str(rel[0]).startswith("on"):
-            sup = rel[2] if isinstance(rel[2], list) else [rel[2]]
-            out.add((rel[1], tuple(sorted(sup))))
-    return out
+    facts = support_facts(scenario.states[-1].relations(roles), roles.support)
+    return {f for f in facts if f[0] in moved}
 
 
 def run_one(task: tuple[int, str, str | None]) -> dict[str, Any]:
@@ -121,13 +118,13 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     rules, arules, crules = _rules(rules_dir)
     demo = Demonstration(sc)
     truth = [{"operation": t.operation, "t_start": t.t_start, "t_end": t.t_end}
-             for t in ground_truth(sc, demo)]
+             for t in ground_truth(sc, rules, demo)]
     rec["demo_seconds"] = demo.duration
     clock = start = time.perf_counter()
-    recognizer, eyes = watch(sc, rules)
+    recognizer, hand = watch(sc, rules)
     actions = to_actions(recognizer)
     rec["watch_seconds"] = time.perf_counter() - clock
-    rec["pixels_per_frame"] = sum(eyes.pixels) / max(1, len(eyes.pixels))
+    rec["pixels_per_frame"] = sum(hand.sight.pixels) / max(1, len(hand.sight.pixels))
     rec.update(compare_sequence(truth, actions["operations"]))
     rec["plan_correct"] = rec["execution_success"] = False
     clock = time.perf_counter()
@@ -137,8 +134,8 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     except InputError as exc:
         rec["failure"] = f"analysis: {exc}"
     else:
-        rec["plan_correct"] = plan_final_relations(plan, teach_rename(actions, sc)) == \
-            true_final(sc)
+        rec["plan_correct"] = plan_final_relations(
+            plan, rules.roles.support, teach_rename(actions, sc)) == true_final(sc, rules.roles)
         rec["analyze_seconds"] = time.perf_counter() - clock
         clock = time.perf_counter()
         result = execute_plan(planmod.parse(plan, file="plan.json"), sc, crules)

@@ -54,7 +54,7 @@ def run_with_pictures(scenario: Any, rules_dir: Any, out: OutputDir, video: bool
     if report:  # the robot's frames follow the demonstration's on the report's time axis
         end = kept[-1][0] if kept else 0.0
         frames = kept + [(end + 1.0 + t, img) for t, img in recorder.kept]
-        out.write_text("report.html", run_report(scenario, result.actions, result.plan,
-                                                 result.plan_text, result.execution,
-                                                 frames=frames))
+        out.write_text("report.html", run_report(scenario, result.rules, result.actions,
+                                                 result.plan, result.plan_text,
+                                                 result.execution, frames=frames))
     return result

@@ -57,6 +57,7 @@ class RunResult:
     execution: Any = None  # lbw_engine.cli.execute.ExecutionResult
     failure: str | None = None  # first phase that failed, with why
     seconds: dict[str, float] = field(default_factory=dict)
+    rules: Any = None  # the RuleSet the run used
 
     @property
     def success(self) -> bool:
@@ -78,12 +79,13 @@ class RunResult:
         return out
 
 
-def compare_with_truth(scenario: Any, actions: dict[str, Any]) -> dict[str, Any]:
-    """The recognized top-level sequence against the ground truth (evaluation only)."""
+def compare_with_truth(scenario: Any, actions: dict[str, Any], rules: Any) -> dict[str, Any]:
+    """The recognized top-level sequence against the ground truth (evaluation only): what
+    the same rules make of perfect detectors (perception.world.groundtruth)."""
     from lbw_engine.report.metrics import compare_sequence
     from perception.world.groundtruth import expected_operations
 
-    expected = list(expected_operations(scenario))
+    expected = expected_operations(scenario, rules)
     recognized = [op["operation"] for op in actions["operations"]]
     # The bench's definition (lbw_engine/report/metrics.py): a repeated closing
     # operation counts once (the hand leaving may be split, Fig. 12).
@@ -111,7 +113,8 @@ def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30
     else:
         recognizer = watcher(scenario, rules, fps)
     actions = to_actions(recognizer)
-    result = RunResult(scenario, actions, compare_with_truth(scenario, actions))
+    result = RunResult(scenario, actions, compare_with_truth(scenario, actions, rules),
+                       rules=rules)
     result.seconds["watch"] = time.perf_counter() - clock
     clock = time.perf_counter()
     try:  # the recognizer's own output: a template mismatch is a failed task, not bad input

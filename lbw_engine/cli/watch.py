@@ -1,7 +1,7 @@
 """``lbw watch SCENARIO --out DIR [--rules DIR]``: recognize a demonstration from images.
 
 The world side (demonstrator and renderer, ``perception.world.stream``) produces
-frames one at a time; the recognizer (``perception.vision.envnodes.adapters.watch_frames``)
+frames one at a time; the recognizer (``perception.vision.envnodes.registry.watch_frames``)
 receives only that frame iterator, the camera models, the shape database and
 the teach names as a naming hint (docs/seeing.md). Writes ``actions.json``.
 """
@@ -29,9 +29,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def watch(scenario, rules, fps: float = 30.0, pixel_noise: float | None = None):
-    """Simulate, render and recognize online; returns (recognizer, eyes)."""
+    """Simulate, render and recognize online; returns (recognizer, hand state)."""
     from perception.vision.camera import default_cameras
-    from perception.vision.envnodes.adapters import watch_frames
+    from perception.vision.envnodes.registry import watch_frames
     from perception.world.stream import demonstration_frames, teach_names
 
     cameras = default_cameras()
@@ -64,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
     else:  # evaluation only: the scenario says what was demonstrated
         from lbw_engine.cli.run import compare_with_truth
 
-        same = compare_with_truth(scenario, actions)
+        same = compare_with_truth(scenario, actions, rules)
         if not same["exact"]:
             problems.append(f"the sequence is not the demonstrated one ({same['difference']})")
     if problems:

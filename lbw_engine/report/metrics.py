@@ -89,25 +89,28 @@ def compare_sequence(truth: list[dict[str, Any]], ops: list[dict[str, Any]]) -> 
             "expected": len(expected), "recognized": len(got)}
 
 
-def _norm(rel: Sequence[Any], rename: dict[str, str]) -> tuple | None:
-    """A support relation as (subject, sorted supports); None for other relation types."""
-    if len(rel) < 3 or not str(rel[0]).startswith("on"):
+def _norm(rel: Sequence[Any], support: Sequence[str], rename: dict[str, str]) -> tuple | None:
+    """A support relation as (subject, sorted supports); None for other relation types.
+
+    ``support`` names the support relations (rules/effects.yaml roles)."""
+    if len(rel) < 3 or rel[0] not in support:
         return None
     obj = rel[2] if isinstance(rel[2], list) else [rel[2]]
     return (rename.get(rel[1], rel[1]), tuple(sorted(rename.get(o, o) for o in obj)))
 
 
-def plan_final_relations(plan: dict[str, Any], rename: dict[str, str] | None = None) -> set:
-    """Support relations the plan's root achieves (its SC+), names mapped through ``rename``."""
+def support_facts(relations: Sequence[Sequence[Any]], support: Sequence[str],
+                  rename: dict[str, str] | None = None) -> set:
+    """The support relations among ``relations`` as (subject, sorted supports)."""
     rename = rename or {}
+    return {r for r in (_norm(rel, support, rename) for rel in relations) if r}
+
+
+def plan_final_relations(plan: dict[str, Any], support: Sequence[str],
+                         rename: dict[str, str] | None = None) -> set:
+    """Support relations the plan's root achieves (its SC+), names mapped through ``rename``."""
     root = plan["operators"][plan["root"]]
-    return {r for r in (_norm(rel, rename) for rel in root.get("sc_plus", [])) if r}
-
-
-def true_changes(initial: list, final: list) -> set:
-    """Support relations of the true final state that the demonstration created."""
-    before = {r for r in (_norm(rel, {}) for rel in initial) if r}
-    return {r for r in (_norm(rel, {}) for rel in final) if r} - before
+    return support_facts(root.get("sc_plus", []), support, rename)
 
 
 def percentile(values: Sequence[float], q: float) -> float | None:

@@ -26,8 +26,9 @@ class ActNode:
     history: list[ActNode] = field(default_factory=list)
     initial_event: str | None = None
     final_event: str | None = None
-    t_start: float = 0.0
+    t_start: float = 0.0  # the segmentation time (a detector may date an event back)
     t_end: float | None = None
+    t_created: float = 0.0  # the frame the recognizer made this node on
     initial_state: State | None = None
     final_state: State | None = None
     operation: str | None = None
@@ -46,7 +47,7 @@ class ActNode:
 
     def view(self, t: float) -> ActView:
         """What a detector may know about this node."""
-        return ActView(self.motion, self.base, self.target, self.special, t)
+        return ActView(self.motion, self.base, self.target, self.special, t, self.t_created)
 
 
 def resolve(

@@ -74,7 +74,7 @@ class Query:
     event:  the rules' event name (a replay trace records it);
     method: the detector method the event-table names (the detector's vocabulary);
     base, target: the ENV-nodes the ATTN-node points to;
-    since:  when the ACT-node waiting for the event began (its t_start): the stretch
+    since:  the frame on which the ACT-node waiting for the event was made: the stretch
             of the hand's path the query is about (e.g. the hand's descent towards a target).
     """
 
@@ -87,13 +87,17 @@ class Query:
 
 @dataclass(frozen=True)
 class ActView:
-    """What a detector may know about the ACT-node a snapshot is taken for."""
+    """What a detector may know about the ACT-node a snapshot is taken for.
+
+    ``t`` is the current frame's time; ``since`` the frame the ACT-node was made on.
+    """
 
     motion: str
     base: tuple[str, ...]
     target: tuple[str, ...]
     special: tuple[str, ...]
     t: float
+    since: float = 0.0
 
 
 @runtime_checkable

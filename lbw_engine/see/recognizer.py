@@ -85,7 +85,7 @@ class Recognizer:
         spec = self.rules.events[node.event]
         detector = self.registry[spec.detector]
         query = Query(node.event, spec.method, tuple(self.env.get(node.base)),
-                      tuple(self.env.get(node.target)), node.owner.t_start)
+                      tuple(self.env.get(node.target)), node.owner.t_created)
         found = detector.query(query, self.env)
         if found is None:
             return None
@@ -193,6 +193,7 @@ class Recognizer:
             level,
             parent,
             t_start=self.t_seg,
+            t_created=self.t,
             initial_event=event,
             **slots,
         )

@@ -3,18 +3,18 @@
 ``draw_monitor`` draws one frame as the paper's monitor shows it: the top and
 side views side by side with the live attention windows (yellow), the
 hand-tracker's windows (green), and under them the attention stack (Sec. V-A,
-one line per level) and the operation being recognized. ``watch_monitored``
-is ``perception.vision.envnodes.adapters.watch_frames`` with a per-frame hook, called after
-the recognizer has finished each frame (so the picture shows what the
-recognizer knew at that frame: online, no look-ahead). ``record_demonstration``
-streams the monitor frames into an MP4 and keeps a few for report.html;
+one line per level) and the operation being recognized. ``record_demonstration``
+draws it from ``watch_frames``'s per-frame hook, called after the recognizer has
+finished each frame (so the picture shows what the recognizer knew at that
+frame: online, no look-ahead), streams the monitor frames into an MP4 and keeps a few
+for report.html;
 ``ExecutionRecorder`` is an ``on_step`` hook for ``execute_plan`` that renders
 the robot's work through the same cameras.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -22,11 +22,10 @@ import cv2
 import numpy as np
 
 from lbw_engine.rules import RuleSet
-from lbw_engine.see.detectors import DetectorRegistry
 from lbw_engine.see.recognizer import Recognizer
-from perception.vision.camera import Camera, default_cameras
-from perception.vision.envnodes.adapters import perception_detectors
-from perception.vision.envnodes.eyes import Eyes
+from perception.vision.camera import default_cameras
+from perception.vision.envnodes.hand import HandState
+from perception.vision.envnodes.registry import watch_frames
 from perception.vision.frames import Frame
 from perception.world.render import Renderer
 
@@ -65,13 +64,14 @@ def draw_monitor(top: np.ndarray, side: np.ndarray, windows: Sequence[Window],
     return np.vstack([views_img, panel])
 
 
-def monitor_state(recognizer: Recognizer, eyes: Eyes) -> tuple[list[Window], list[str], str]:
+def monitor_state(recognizer: Recognizer, hand: HandState
+                  ) -> tuple[list[Window], list[str], str]:
     """What the monitor shows now: windows, attention stack lines, current operation."""
-    hand_ids = {w.wid for ws in eyes.tracker.windows.values() for w in ws}
+    hand_ids = {w.wid for ws in hand.tracker.windows.values() for w in ws}
     # VisionResources keeps no public list of live windows; the monitor only reads it.
-    live = list(getattr(eyes.resources, "_live", {}).values())
+    live = list(getattr(hand.sight.resources, "_live", {}).values())
     windows = [(w.view, (w.x0, w.y0, w.x1, w.y1), "hand" if w.wid in hand_ids else "attention")
-               for w in live if w.wid not in hand_ids or eyes.tracker.tracking]
+               for w in live if w.wid not in hand_ids or hand.tracker.tracking]
     lines = []
     for level, nodes in enumerate(recognizer.stack.describe()):
         items = [f":{ev} {'/'.join(base) or '-'}>{'/'.join(target) or '-'}"
@@ -87,24 +87,6 @@ def monitor_state(recognizer: Recognizer, eyes: Eyes) -> tuple[list[Window], lis
     if last:
         operation += f"   (last: {last})"
     return windows, lines, operation
-
-
-def watch_monitored(frames: Iterable[Frame], cameras: Mapping[str, Camera],
-                    shapes: Mapping[str, Sequence[float]], rules: RuleSet,
-                    names: Mapping[str, tuple[str, Sequence[float]]] | None,
-                    on_frame: Callable[[Frame, Recognizer, Eyes], None]
-                    ) -> tuple[Recognizer, Eyes]:
-    """``watch_frames`` with ``on_frame(frame, recognizer, eyes)`` after each frame's steps."""
-    eyes = Eyes(cameras, shapes, rules, names)
-    registry = DetectorRegistry.for_rules(rules, perception_detectors(eyes))
-    recognizer = Recognizer(rules, registry)
-    for frame in frames:
-        if recognizer.finished:
-            break
-        recognizer.step(frame.t, frame)
-        on_frame(frame, recognizer, eyes)
-    recognizer.finish()
-    return recognizer, eyes
 
 
 class VideoFile:
@@ -136,7 +118,7 @@ class VideoFile:
 
 def record_demonstration(scenario: Any, rules: RuleSet, video: str | Path | None = None,
                          keep_every: float = 2.0, fps: float = 30.0, scale: int = 2
-                         ) -> tuple[Recognizer, Eyes, list[tuple[float, np.ndarray]]]:
+                         ) -> tuple[Recognizer, HandState, list[tuple[float, np.ndarray]]]:
     """Watch ``scenario`` on the monitor; MP4 to ``video``; keep one frame per ``keep_every`` s."""
     from perception.world.stream import demonstration_frames, teach_names
 
@@ -144,20 +126,20 @@ def record_demonstration(scenario: Any, rules: RuleSet, video: str | Path | None
     out = VideoFile(video, fps)
     kept: list[tuple[float, np.ndarray]] = []
 
-    def on_frame(frame: Frame, rec: Recognizer, eyes: Eyes) -> None:
+    def on_frame(frame: Frame, rec: Recognizer, hand: HandState) -> None:
         """Draw the monitor; stream it, keep a sample."""
-        wins, lines, op = monitor_state(rec, eyes)
+        wins, lines, op = monitor_state(rec, hand)
         image = draw_monitor(frame.top, frame.side, wins, lines, op, frame.t, scale)
         out.add(image)
         if not kept or frame.t - kept[-1][0] >= keep_every - 1e-9:
             kept.append((frame.t, image))
 
     try:
-        rec, eyes = watch_monitored(demonstration_frames(scenario, cameras, fps=fps), cameras,
-                                    scenario.shapes, rules, teach_names(scenario), on_frame)
+        rec, hand = watch_frames(demonstration_frames(scenario, cameras, fps=fps), cameras,
+                                 scenario.shapes, rules, teach_names(scenario), on_frame)
     finally:
         out.close()
-    return rec, eyes, kept
+    return rec, hand, kept
 
 
 class ExecutionRecorder:

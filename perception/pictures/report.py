@@ -21,6 +21,7 @@ from typing import Any
 import cv2
 import numpy as np
 
+from lbw_engine.rules import RuleSet
 from perception.pictures.plandraw import svg_text
 
 ROW_H, LABEL_W, PX_PER_S = 26, 110, 8.0
@@ -184,15 +185,16 @@ def pick_frames(frames: Sequence[tuple[float, np.ndarray]], n: int = 60
     return [frames[i] for i in idx]
 
 
-def truth_of(scenario: Any) -> list[dict[str, Any]]:
+def truth_of(scenario: Any, rules: RuleSet) -> list[dict[str, Any]]:
     """The ground-truth operations of a scenario's demonstration, for the timeline."""
     from perception.world.groundtruth import ground_truth
 
     return [{"operation": t.operation, "t_start": t.t_start, "t_end": t.t_end}
-            for t in ground_truth(scenario)]
+            for t in ground_truth(scenario, rules)]
 
 
-def run_report(scenario: Any, actions: dict[str, Any], plan: dict[str, Any] | None,
+def run_report(scenario: Any, rules: RuleSet, actions: dict[str, Any],
+               plan: dict[str, Any] | None,
                plan_text: str | None, execution: Any = None,
                frames: Sequence[tuple[float, np.ndarray]] = (),
                video_mp4: bytes | None = None, max_frames: int = 60) -> str:
@@ -205,7 +207,7 @@ def run_report(scenario: Any, actions: dict[str, Any], plan: dict[str, Any] | No
         f"# {scenario.name} (no file)"
     return render_report(
         title=f"lbw run: {scenario.name}", scenario_text=text, actions=actions,
-        truth=truth_of(scenario), plan=plan, plan_text=plan_text,
+        truth=truth_of(scenario, rules), plan=plan, plan_text=plan_text,
         commands_text=execution.commands_text if execution is not None else None,
         execution=execution.report if execution is not None else None,
         frames=pick_frames(frames, max_frames), video_mp4=video_mp4)

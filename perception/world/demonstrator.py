@@ -21,6 +21,7 @@ the schedule is only for ground truth (``perception.world.groundtruth``).
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -200,6 +201,8 @@ class Demonstration:
         self.scenario, self.fps = scenario, float(fps)
         rng = np.random.default_rng(scenario.seed)
         self.segments: list[Segment] = _Planner(scenario, rng).plan()
+        self._starts = [seg.t0 for seg in self.segments]
+        self._cursor = 0
         self.duration = self.segments[-1].t1
         self.n_frames = int(math.floor(self.duration * self.fps)) + 1
         self.world = World(scenario.teach.objects.values(), substeps=substeps)
@@ -209,23 +212,34 @@ class Demonstration:
         self._tremor = [(amp, rng.uniform(0.4, 1.5, 3) * 2 * math.pi, rng.uniform(0, 6.3, 3))
                         for _ in range(3)]
 
+    def planned(self, t: float) -> Vec3:
+        """The planned hand position at any time ``t``, without tremor (ground truth)."""
+        k = max(0, bisect.bisect_right(self._starts, t) - 1)
+        return self._along(self.segments[k], t)
+
     def target(self, t: float) -> tuple[Vec3, Segment]:
         """Planned hand position at time ``t`` (with tremor) and its segment."""
         seg = self._segment(t)
-        d = seg.t1 - seg.t0
-        s = min_jerk((t - seg.t0) / d) if d > 0 else 1.0
-        sl = s if not seg.lateral else 1 - (1 - s) ** 3 if seg.lateral == "early" else s ** 3
-        p0, p1 = seg.p0, seg.p1
-        p = [p0[0] + (p1[0] - p0[0]) * sl, p0[1] + (p1[1] - p0[1]) * sl,
-             p0[2] + (p1[2] - p0[2]) * s + seg.arc * math.sin(math.pi * s)]
+        p = list(self._along(seg, t))
         scale = QUIET if seg.quiet else 1.0
         if seg.phase in ("approach", "depart"):
             # fade towards the fine motion so the tremor does not jump at its ends
+            d = seg.t1 - seg.t0
+            s = min_jerk((t - seg.t0) / d) if d > 0 else 1.0
             u = s if seg.phase == "depart" else 1.0 - s
             scale = QUIET + (1 - QUIET) * min(1.0, 3.0 * u)
         for axis, (amp, w, ph) in enumerate(self._tremor):
             p[axis] += scale * amp * sum(math.sin(w[k] * t + ph[k]) for k in range(3))
         return (p[0], p[1], p[2]), seg
+
+    def _along(self, seg: Segment, t: float) -> Vec3:
+        """Where segment ``seg`` has the hand at ``t`` (minimum jerk, arc, lateral timing)."""
+        d = seg.t1 - seg.t0
+        s = min_jerk((t - seg.t0) / d) if d > 0 else 1.0
+        sl = s if not seg.lateral else 1 - (1 - s) ** 3 if seg.lateral == "early" else s ** 3
+        p0, p1 = seg.p0, seg.p1
+        return (p0[0] + (p1[0] - p0[0]) * sl, p0[1] + (p1[1] - p0[1]) * sl,
+                p0[2] + (p1[2] - p0[2]) * s + seg.arc * math.sin(math.pi * s))
 
     def _segment(self, t: float) -> Segment:
         """The segment running at ``t`` (the last one after the end)."""

@@ -1,38 +1,34 @@
 """Ground truth of a demonstration, for evaluating the recognizer only.
 
-From a scenario and the demonstrator's own schedule: the top-level operation
-sequence (Table V's names; Fig. 12 and Fig. 20), each operation's true time
-span, targets and the true support relations before and after it. The
-recognizer, its detectors and lbw_engine never import this module
-(tests/test_boundaries.py).
+The true operations are what the rules make of perfect detectors: the
+recognizer is run on the oracle registry (perception.world.oracle), which
+answers every query from the demonstrator's schedule. Their names therefore
+come from the rules under test, never from Python; their times are the
+schedule's; their targets and the true relations before and after come from
+the scenario's symbolic layouts. The recognizer, its detectors and lbw_engine
+never import this module (import-linter contracts).
 
 Segmentation convention (Sec. V-B): a Transfer runs from the end of the
 previous Depart to the hand's arrival above the next target; the LocalMotion
 then runs until the hand has risen again (end of its Depart). The final
-Transfer, the hand leaving the workspace, is the one WITHDRAW. (The paper's
-Fig. 12 shows two closing withdraws: the recognizer may split the leaving
-motion; a comparison should treat consecutive WITHDRAWs as one.)
+Transfer, the hand leaving the workspace, is one operation (the recognizer may
+split it: Fig. 12 shows two closing withdraws, and the comparison in
+lbw_engine.report.metrics treats trailing repeats as one).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from perception.world.demonstrator import Demonstration, Segment
+from lbw_engine.rules import RuleSet
+from perception.world.demonstrator import Demonstration
 from perception.world.layout import Layout
-
-# step kind -> (Transfer operation, LocalMotion operation); a place on blocks is
-# refined below. Table V: REACH / REACH-WITH-OBJ end a Transfer at :Near.
-_OPERATIONS = {
-    "pick": ("REACH", "PICK"),
-    "touch": ("REACH", "NO-OP"),
-    "place": ("REACH-WITH-OBJ", "PLACE-ON-TABLE"),
-}
+from perception.world.oracle import oracle_recognizer
 
 
 @dataclass(frozen=True)
 class TrueFine:
-    """A fine operation inside a LocalMotion (ALIGN, Sec. V-B5)."""
+    """A fine operation inside a LocalMotion (e.g. ALIGN, Sec. V-B5)."""
 
     operation: str
     t_start: float
@@ -44,10 +40,10 @@ class TrueOperation:
     """One top-level operation as it really happened."""
 
     operation: str
-    motion: str  # "Transfer" | "LocalMotion"
+    motion: str
     t_start: float
     t_end: float
-    step: int  # demonstration step index, -1 for the closing withdraw
+    step: int  # demonstration step index, -1 for the hand entering or leaving
     target: tuple[str, ...]
     special: tuple[str, ...]
     initial_relations: list
@@ -55,50 +51,32 @@ class TrueOperation:
     fine: tuple[TrueFine, ...] = ()
 
 
-def _local_name(step, kind_ops: tuple[str, str]) -> str:
-    """PLACE-ON-BLOCK when the place's supports are objects, else the table's name."""
-    if step.kind == "place" and step.on != ("table",):
-        return "PLACE-ON-BLOCK"
-    return kind_ops[1]
-
-
-def expected_operations(scenario) -> list[str]:
-    """The top-level operation names the recognizer should report, in order."""
-    out: list[str] = []
-    for step in scenario.demonstration:
-        ops = _OPERATIONS[step.kind]
-        out += [ops[0], _local_name(step, ops)]
-    return out + ["WITHDRAW"]
-
-
-def ground_truth(scenario, demonstration: Demonstration | None = None) -> list[TrueOperation]:
-    """True operations with times (from the demonstrator's schedule) and relations."""
+def ground_truth(scenario, rules: RuleSet, demonstration: Demonstration | None = None
+                 ) -> list[TrueOperation]:
+    """True operations with times (the demonstrator's schedule) and relations (layouts)."""
     demo = demonstration or Demonstration(scenario)
-    by_step: dict[int, list[Segment]] = {}
-    for seg in demo.segments:
-        by_step.setdefault(seg.step, []).append(seg)
-    before: Layout = scenario.teach.layout()
-    out: list[TrueOperation] = []
-    for i, step in enumerate(scenario.demonstration):
-        segs = by_step[i]
-        after = scenario.states[i]
-        transfer = next(s for s in segs if s.phase == "transfer")
-        ops = _OPERATIONS[step.kind]
-        if step.kind == "place":
-            target, special = step.on, (step.obj,)
-        else:
-            target, special = (step.obj,), ()
-        rel0, rel1 = before.relations(), after.relations()
-        out.append(TrueOperation(ops[0], "Transfer", transfer.t0, transfer.t1, i, target,
-                                 special, rel0, rel0))
-        fine: tuple[TrueFine, ...] = ()
-        slides = [s for s in segs if s.phase == "fine" and s.p0 != s.p1]
-        if step.align is not None and slides:
-            fine = (TrueFine("ALIGN", slides[0].t0, slides[-1].t1),)
-        out.append(TrueOperation(_local_name(step, ops), "LocalMotion", transfer.t1, segs[-1].t1,
-                                 i, target, special, rel0, rel1, fine))
-        before = after
-    leave = next(s for s in by_step[-1] if s.phase == "transfer")
-    rel = before.relations()
-    out.append(TrueOperation("WITHDRAW", "Transfer", leave.t0, leave.t1, -1, (), (), rel, rel))
+    rec = oracle_recognizer(scenario, rules, demo)
+    arrived = [next(s.t1 for s in demo.segments if s.step == i and s.phase == "transfer")
+               for i in range(len(scenario.demonstration))]
+    layouts: list[Layout] = [scenario.teach.layout(), *scenario.states]
+    out = []
+    for node in rec.root.history if rec.root is not None else []:
+        # The oracle dates every segmentation at the schedule's own times: an operation
+        # ending at step i's arrival is its Transfer, one starting there its local motion.
+        step, before, after = -1, layouts[-1], layouts[-1]
+        for i, t in enumerate(arrived):
+            if abs(node.t_end - t) < 1e-6:
+                step, before, after = i, layouts[i], layouts[i]
+            elif abs(node.t_start - t) < 1e-6:
+                step, before, after = i, layouts[i], layouts[i + 1]
+        fine = tuple(TrueFine(sub.operation, sub.t_start, sub.t_end) for sub in node.history
+                     if rules.motions[sub.motion].fine and sub.t_end is not None)
+        out.append(TrueOperation(node.operation, node.motion, node.t_start, node.t_end, step,
+                                 node.target, node.special, before.relations(rules.roles),
+                                 after.relations(rules.roles), fine))
     return out
+
+
+def expected_operations(scenario, rules: RuleSet) -> list[str]:
+    """The top-level operations a perfect eye would report under ``rules``, in order."""
+    return [op.operation for op in ground_truth(scenario, rules)]

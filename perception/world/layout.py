@@ -13,6 +13,9 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
+from lbw_engine.names import HAND
+from lbw_engine.rules import Roles
+
 TABLE_X = (-300.0, 300.0)  # table top extent, mm (design.md)
 TABLE_Y = (0.0, 400.0)
 MAX_TOP = 300.0  # structures stay below this height
@@ -131,18 +134,18 @@ class Layout:
                     frontier.append(other)
         return out
 
-    def relations(self) -> list[list]:
-        """Support and holding relations, in the actions.json form."""
+    def relations(self, roles: Roles) -> list[list]:
+        """Support and holding relations in the actions.json form, named by the rules' roles
+        (rules/effects.yaml: hold, support single / multiple)."""
         rels: list[list] = []
         for name in sorted(self.center):
             sup = self.support.get(name, ())
             if name == self.held:
-                rels.append(["holding", "hand", name])
-                rels.append(["held-by", name, "hand"])
+                rels.append([roles.hold, HAND, name])
             elif len(sup) == 1:
-                rels.append(["on", name, sup[0]])
+                rels.append([roles.single, name, sup[0]])
             elif sup:
-                rels.append(["on", name, sorted(sup)])
+                rels.append([roles.multiple, name, sorted(sup)])
         return rels
 
 

@@ -18,6 +18,7 @@ from collections.abc import Iterable
 
 import pymunk
 
+from lbw_engine.rules import Roles
 from perception.world.hand import TIP, Gripper
 from perception.world.layout import TABLE_X, Layout
 from perception.world.scene import Box
@@ -249,12 +250,12 @@ class World:
             out[name] = tuple(sorted(sup))
         return out
 
-    def relations(self) -> list[list]:
+    def relations(self, roles: Roles) -> list[list]:
         """Support and holding relations in the actions.json form (ground truth)."""
         lay = Layout(self.positions(), dict(self.sizes), self.supports())
         held = [g.holding for g in self.grippers if g.holding]
         lay.held = held[0] if held else None
-        return lay.relations()
+        return lay.relations(roles)
 
     def kinetic(self) -> float:
         """Largest block speed (mm/s); near zero when everything rests."""

@@ -4,10 +4,13 @@ import math
 
 import pytest
 
+from lbw_engine.rules import load_rules
 from perception.world.demonstrator import Demonstration
 from perception.world.generator import BUILDERS, CATALOGUE, LEVELS, generate
 from perception.world.groundtruth import expected_operations
 from perception.world.physics import World
+
+RULES = load_rules()
 
 SEEDS = range(50)
 
@@ -25,7 +28,7 @@ def test_generated_scenario_loads_and_is_deterministic(seed):
         sorted(o.center for o in sc.execute.objects.values())
     assert max(c[2] + sc.shapes[o.shape][2] / 2 for o, c in
                ((sc.teach.objects[n], sc.states[-1].center[n]) for n in sc.teach.objects)) <= 120
-    ops = expected_operations(sc)
+    ops = expected_operations(sc, RULES)
     assert ops.count("NO-OP") == g.touches
     moved = {s.obj for s in sc.demonstration if s.kind == "pick"}
     assert len(sc.teach.objects) - len(moved) == g.distractors
@@ -87,7 +90,7 @@ def test_demonstration_builds_the_planned_structure_at_rest(seed, level):
     for _, scene in demo:
         tilt = max([tilt] + [abs(b.angle) for b in scene if b.kind == "block"])
     assert tilt < max_tilt
-    assert demo.world.relations() == sc.states[-1].relations()
+    assert demo.world.relations(RULES.roles) == sc.states[-1].relations(RULES.roles)
     before = demo.world.positions()
     demo.world.settle(3.0)
     for name, c in demo.world.positions().items():

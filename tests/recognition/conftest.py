@@ -11,7 +11,7 @@ import pytest
 from lbw_engine.rules import load_rules
 from lbw_engine.see.actions import to_actions
 from perception.vision.camera import default_cameras
-from perception.vision.envnodes.adapters import watch_frames
+from perception.vision.envnodes.registry import watch_frames
 from perception.world.demonstrator import Demonstration
 from perception.world.groundtruth import ground_truth
 from perception.world.scenario import load
@@ -46,9 +46,9 @@ def watch(name: str, pixel: float | None = None, tremor: float | None = None) ->
     cams = default_cameras()
     seen: list[float] = []
     frames = demonstration_frames(sc, cams, demonstration=_noting_hand(demo, cams, seen))
-    rec, eyes = watch_frames(frames, cams, sc.shapes, RULES, teach_names(sc))
-    return Watched(sc, demo, to_actions(rec), ground_truth(sc, Demonstration(sc)), eyes.pixels,
-                   (seen[0], seen[-1]) if seen else (0.0, 0.0))
+    rec, hand = watch_frames(frames, cams, sc.shapes, RULES, teach_names(sc))
+    return Watched(sc, demo, to_actions(rec), ground_truth(sc, RULES, Demonstration(sc)),
+                   hand.sight.pixels, (seen[0], seen[-1]) if seen else (0.0, 0.0))
 
 
 def _noting_hand(demo: Demonstration, cams: dict, seen: list[float]):

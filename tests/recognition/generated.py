@@ -11,10 +11,12 @@ from typing import Any
 from lbw_engine.rules import load_rules
 from lbw_engine.see.actions import to_actions
 from perception.vision.camera import default_cameras
-from perception.vision.envnodes.adapters import watch_frames
+from perception.vision.envnodes.registry import watch_frames
 from perception.world.generator import generate
 from perception.world.groundtruth import expected_operations
 from perception.world.stream import demonstration_frames, teach_names
+
+RULES = load_rules()
 
 
 def watch_generated(seed: int, level: str = "nominal") -> tuple[Any, Any, dict[str, Any]]:
@@ -28,7 +30,7 @@ def watch_generated(seed: int, level: str = "nominal") -> tuple[Any, Any, dict[s
 
 def assert_sequence(sc: Any, actions: dict[str, Any]) -> None:
     """The recognized top-level sequence is the demonstrator's."""
-    assert [op["operation"] for op in actions["operations"]] == expected_operations(sc)
+    assert [op["operation"] for op in actions["operations"]] == expected_operations(sc, RULES)
 
 
 def assert_supports(sc: Any, rec: Any) -> None:

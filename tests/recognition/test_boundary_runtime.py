@@ -25,7 +25,7 @@ import numpy as np
 from lbw_engine.see.actions import to_actions
 from lbw_engine.rules import load_rules
 from perception.vision.camera import default_cameras
-from perception.vision.envnodes.adapters import watch_frames
+from perception.vision.envnodes.registry import watch_frames
 from perception.vision.frames import Frame
 data = np.load(sys.argv[1])
 hint = json.loads(sys.argv[2])

@@ -10,9 +10,12 @@ import math
 
 import pytest
 
+from lbw_engine.rules import load_rules
 from perception.world.groundtruth import expected_operations
 
 from .conftest import SCENARIOS, visible_span
+
+RULES = load_rules()
 
 TOLERANCE = 0.3  # s: every segmentation time (issue #5)
 PLACE_TOLERANCE = 5.0  # mm
@@ -22,7 +25,7 @@ PLACE_TOLERANCE = 5.0  # mm
 def test_operation_sequence_equals_ground_truth(watched, name):
     w = watched(name)
     ops = [op["operation"] for op in w.actions["operations"]]
-    assert ops == expected_operations(w.scenario)
+    assert ops == expected_operations(w.scenario, RULES)
     assert [(op["target"], op["special"]) for op in w.actions["operations"]] == [
         (list(t.target), list(t.special)) for t in w.truth
     ] or _same_sets(w)

@@ -59,7 +59,7 @@ def test_plan_final_relations_from_the_root_sc_plus():
         ["on", "x", "table", {"at": [0, 0, 0], "wrt": "table"}],
         ["on-multiple", "p", ["y", "x"], {"at": [1, 1, 1], "wrt": "table"}],
         ["holding", "hand", "x"]]}}}
-    assert plan_final_relations(plan, {"x": "leg1"}) == {
+    assert plan_final_relations(plan, ("on", "on-multiple"), {"x": "leg1"}) == {
         ("leg1", ("table",)), ("p", ("leg1", "y"))}
 
 

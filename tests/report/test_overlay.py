@@ -44,8 +44,8 @@ def recorded(tmp_path_factory):
     """A generated tower watched through the monitor, with an MP4."""
     sc = generate(5, structures=["tower"]).scenario()
     video = tmp_path_factory.mktemp("video") / "demo.mp4"
-    rec, eyes, kept = record_demonstration(sc, load_rules(), video, keep_every=1.0, scale=1)
-    return sc, rec, eyes, kept, video
+    rec, hand, kept = record_demonstration(sc, load_rules(), video, keep_every=1.0, scale=1)
+    return sc, rec, hand, kept, video
 
 
 def test_monitor_does_not_change_recognition(recorded):
@@ -55,13 +55,13 @@ def test_monitor_does_not_change_recognition(recorded):
 
 
 def test_video_has_one_frame_per_recognized_frame(recorded):
-    sc, rec, eyes, kept, video = recorded
+    sc, rec, hand, kept, video = recorded
     cap = cv2.VideoCapture(str(video))
     n = int(cap.get(cv2.CAP_PROP_FRAME_COUNT))
     ok, first = cap.read()
     cap.release()
     assert ok and first.shape == (256 + PANEL_H, 2 * 256 + 4, 3)
-    assert n == len(eyes.pixels) + 1  # pixel counts close every frame but the last
+    assert n == len(hand.sight.pixels) + 1  # pixel counts close every frame but the last
     assert len(kept) == pytest.approx(n / 30.0, abs=2)
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from lbw_engine.rules import load_rules
 from lbw_engine.understand import write_plan_text
 from perception.pictures.report import pick_frames, render_report, timeline_svg
 from perception.vision.camera import default_cameras
@@ -18,6 +19,8 @@ from perception.world.demonstrator import Demonstration
 from perception.world.groundtruth import ground_truth
 from perception.world.render import Renderer
 from perception.world.scenario import load
+
+RULES = load_rules()
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "tests" / "data"
@@ -52,7 +55,7 @@ def report(tmp_path_factory):
     sc = load(ROOT / "scenarios" / "build-table.yaml")
     demo = Demonstration(sc)
     truth = [{"operation": t.operation, "t_start": t.t_start, "t_end": t.t_end}
-             for t in ground_truth(sc, demo)]
+             for t in ground_truth(sc, RULES, demo)]
     renderer = Renderer(default_cameras(), pixel_noise=sc.noise.pixel, seed=sc.seed)
     frames = []
     for i, (t, scene) in enumerate(demo):

@@ -7,9 +7,12 @@ from pathlib import Path
 import pymunk
 import pytest
 
+from lbw_engine.rules import load_rules
 from perception.world.demonstrator import Demonstration
 from perception.world.physics import World
 from perception.world.scenario import load
+
+RULES = load_rules()
 
 SCENARIOS = sorted(p.stem for p in (Path(__file__).parents[2] / "scenarios").glob("*.yaml"))
 
@@ -45,7 +48,7 @@ def test_no_block_tilts_or_falls_through(run):
 def test_final_structure_is_the_demonstrated_one(run):
     sc, demo, *_ = run
     expected = sc.states[-1]
-    assert demo.world.relations() == expected.relations()
+    assert demo.world.relations(RULES.roles) == expected.relations(RULES.roles)
     for name, c in demo.world.positions().items():
         assert math.dist(c, expected.center[name]) < 3.0, name
 
@@ -101,7 +104,7 @@ def test_other_seed_builds_the_same_structure(name):
     demo = Demonstration(dataclasses.replace(sc, seed=1))
     for _ in demo:
         pass
-    assert demo.world.relations() == sc.states[-1].relations()
+    assert demo.world.relations(RULES.roles) == sc.states[-1].relations(RULES.roles)
 
 
 def test_pymunk_is_version_7():

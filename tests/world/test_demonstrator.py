@@ -6,11 +6,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from lbw_engine.rules import load_rules
 from perception.world.demonstrator import Demonstration, min_jerk
 from perception.world.groundtruth import expected_operations, ground_truth
 from perception.world.hand import Gripper
 from perception.world.physics import World
 from perception.world.scenario import load, load_text
+
+RULES = load_rules()
 
 ROOT = Path(__file__).parents[2] / "scenarios"
 
@@ -45,7 +48,7 @@ def test_hand_absent_at_start_and_end(table):
 
 def test_transfers_are_fast_and_local_motions_slow(table):
     sc, demo, path = table
-    for op in ground_truth(sc, demo):
+    for op in ground_truth(sc, RULES, demo):
         speeds = _speeds(path, op.t_start, op.t_end)
         if op.motion == "Transfer":
             assert max(speeds) > 150.0, op  # Table IV: well above V_H = 50 mm/s
@@ -80,7 +83,7 @@ def test_same_seed_same_frames_other_seed_other_frames():
 
 def test_ground_truth_build_table_is_fig20():
     sc = load(ROOT / "build-table.yaml")
-    ops = expected_operations(sc)
+    ops = expected_operations(sc, RULES)
     assert len(ops) == 21 and ops[-2:] == ["PLACE-ON-BLOCK", "WITHDRAW"]
     assert ops[:4] * 4 == ops[:16] == ["REACH", "PICK", "REACH-WITH-OBJ", "PLACE-ON-TABLE"] * 4
 
@@ -89,14 +92,14 @@ def test_ground_truth_inverted_arch_is_fig12():
     fig12 = ("reach pick reach-with-obj place-on-table reach pick reach-with-obj place-on-block "
              "reach no-op reach pick reach-with-obj place-on-block reach pick reach-with-obj "
              "place-on-block withdraw").upper().split()
-    assert expected_operations(load(ROOT / "inverted-arch.yaml")) == fig12
+    assert expected_operations(load(ROOT / "inverted-arch.yaml"), RULES) == fig12
 
 
 def test_ground_truth_times_tile_the_demonstration():
     sc = load(ROOT / "place-and-align.yaml")
     demo = Demonstration(sc)
-    truth = ground_truth(sc, demo)
-    assert [o.operation for o in truth] == expected_operations(sc)
+    truth = ground_truth(sc, RULES, demo)
+    assert [o.operation for o in truth] == expected_operations(sc, RULES)
     for a, b in zip(truth, truth[1:], strict=False):
         assert a.t_end == pytest.approx(b.t_start) and a.t_start < a.t_end
     align = truth[7].fine
@@ -128,9 +131,9 @@ def test_gripper_grasps_lifts_and_releases_a_block():
         w.settle(1.0)
     assert g.holding == "left"
     assert w.positions()["left"][2] == pytest.approx(z + 80.0, abs=1.0)
-    assert ["holding", "hand", "left"] in w.relations()
+    assert ["holding", "hand", "left"] in w.relations(RULES.roles)
     g.move_to((x + 50.0, y, z - 0.1))
     w.settle(1.0)
     g.open(60.0)
     w.settle(1.0)
-    assert g.holding is None and ["on", "left", "table"] in w.relations()
+    assert g.holding is None and ["on", "left", "table"] in w.relations(RULES.roles)

@@ -3,7 +3,10 @@
 import pytest
 
 from lbw_engine.errors import InputError
+from lbw_engine.rules import load_rules
 from perception.world.scenario import load_text
+
+RULES = load_rules()
 
 GOOD = """\
 name: t
@@ -133,4 +136,4 @@ def test_good_scenario_loads_with_defaults():
 def test_bare_on_key_is_a_string_and_riders_move_with_their_carrier():
     sc = load_text(_steps("    - pick: p\n    - place: p\n      on: table\n      at: [0, 250]\n"))
     assert sc.states[-1].center["c"] == (-40.0, 250.0, 45.0)
-    assert ["on", "c", "p"] in sc.states[-1].relations()
+    assert ["on", "c", "p"] in sc.states[-1].relations(RULES.roles)

@@ -5,6 +5,6 @@ from __future__ import annotations
 
 def vocabulary() -> dict[str, dict[str, frozenset]]:
     """Detector name -> the methods it answers and the answers its comparisons give."""
-    from perception.vision.envnodes.adapters import VOCABULARY
+    from perception.vision.envnodes.registry import VOCABULARY
 
     return VOCABULARY

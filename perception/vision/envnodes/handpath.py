@@ -1,6 +1,6 @@
 """The tracked hand's recent path: noise-robust velocity, motion onset and the work region.
 
-Helpers of ``perception.vision.envnodes.eyes`` (the HandLoc node and :Far, Table III/IV).
+Helpers of ``perception.vision.envnodes.hand`` (the HandLoc node and :Far, Table III/IV).
 The tracker's positions carry pixel noise and the demonstrator's tremor
 (0.4-1.5 Hz); a frame difference of them is dominated by both, so the
 velocity is a least-squares slope over a short time window

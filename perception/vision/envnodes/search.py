@@ -1,60 +1,62 @@
-"""ENV-node helper for the guided visual search: :Near below the hand (Sec. III-E, Fig. 6).
+"""The guided visual search ENV-node: targets below the hand (Table III :Near, Sec. III-E).
 
-Turns the tracked hand and the environment model into the stepped 3-D search
-regions of the sil-finder (perception/vision/vfd/search.py) and a found silhouette into
-the target ENV-nodes (docs/seeing.md).
+``visual-search`` turns the tracked hand and the environment model into the
+stepped 3-D search regions of the sil-finder (perception/vision/vfd/search.py,
+Fig. 6) and a found silhouette into the target ENV-nodes it confirms in the
+environment model (docs/seeing.md).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from lbw_engine.model.env import TABLE, EnvModel, EnvNode
-from perception.vision.envnodes.snapshots import box, held_box
+from lbw_engine.see.detectors import Detection, Query
+from perception.vision.envnodes.base import EnvNodeBase
+from perception.vision.envnodes.hand import box
 from perception.vision.vfd.base import Region3D
 from perception.vision.vfd.search import SilFinder
-
-if TYPE_CHECKING:  # pragma: no cover
-    from perception.vision.envnodes.eyes import Eyes
 
 TOP_TOLERANCE_MM = 15.0  # confirmed targets: tops within this of the highest one (a support set)
 SUPPORT_TOLERANCE_MM = 8.0  # the held block's centre may lie this far off its supports' boxes
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
+NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
+MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target) lasts longer
 
 
-def held_here(eyes: Eyes, env: EnvModel) -> tuple[EnvNode, Region3D] | None:
-    """The held object and its box under the hand, the hand's x checked by the palm.
-
-    A finger window clamped at the palm puts the tracker's point 25-35 mm beside a wide
-    grasp (docs/seeing.md); where the held block is decides what lies below it.
-    """
-    held = held_box(eyes, env)
-    if held is None or eyes.spot is None:
-        return held
-    return held[0], box(held[0], eyes.spot + eyes.spot_grip)
-
-
-class SearchNode:
+class SearchNode(EnvNodeBase):
     """:Near through the sil-finder: stepped regions below the hand (Sec. III-E, Fig. 6)."""
 
-    def __init__(self, eyes: Eyes) -> None:
+    name = "visual-search"
+    calls = {"visual-search": "visual_search"}
+
+    def __init__(self, *args) -> None:
         """A sil-finder on the shared windows."""
-        self.eyes = eyes
-        self.finder = SilFinder(eyes.cameras, eyes.resources)
-        self.limit = int(eyes.rules.constants["search-cycle-limit"])
-        self.default = tuple(float(v) for v in eyes.rules.constants["attention-region"])
+        super().__init__(*args)
+        self.finder = SilFinder(self.sight.cameras, self.sight.resources)
+        self.limit = int(self.rules.constants["search-cycle-limit"])
+        self.default = tuple(float(v) for v in self.rules.constants["attention-region"])
         self.last: Region3D | None = None
+
+    def visual_search(self, query: Query, env: EnvModel) -> Detection | None:
+        """Targets found below the arriving hand and confirmed in the environment model."""
+        hand = self.hand
+        if (hand.hand is None or not hand.steady or hand.speed() > NEAR_SPEED * hand.v_fast
+                or self.sight.t - query.since < MIN_TRANSFER_S):
+            # a hand that stopped once and sped on (leaving) is not arriving, nor one whose
+            # motion has only just begun; just after a re-placement its velocity is unknown
+            return None
+        found = self.near(env)
+        return hand.detection(found=found) if found else None
 
     def regions(self, env: EnvModel) -> tuple[list[Region3D], set[str]]:
         """The search regions, top to bottom, and the names never to report (held, riders)."""
-        eyes = self.eyes
-        held = held_here(eyes, env)
+        held = self.hand.held_box(env, spot=True)
         if held is None:
-            start = Region3D.around(eyes.hand, self.default)
+            start = Region3D.around(self.hand.hand, self.default)
             skip: set[str] = set()
             first = 0
         else:
@@ -75,17 +77,17 @@ class SearchNode:
 
     def near(self, env: EnvModel) -> tuple[str, ...]:
         """Names of the confirmed targets below the hand, () when none yet."""
-        if self.eyes.hand is None:
+        if self.hand.hand is None:
             return ()
         regions, skip = self.regions(env)
-        held = held_here(self.eyes, env)
+        held = self.hand.held_box(env, spot=True)
         # The held block hangs over the searched place in both views: leave its outline out
         # (grown by 2 mm, for the tremor) so only what lies below it can be found.
         exclude = [] if held is None else [
             Region3D(tuple(np.asarray(held[1].lo) - 2.0), tuple(np.asarray(held[1].hi) + 2.0))]
         for region in regions:
             self.finder.attention(region)
-            if self.finder.look(self.eyes.frame, exclude) is not None:
+            if self.finder.look(self.sight.frame, exclude) is not None:
                 names = self.confirm(region, env, skip, held[1] if held else None)
                 if names:
                     self.last = region
@@ -110,7 +112,7 @@ class SearchNode:
                 if below.kind == "Loc" and below.position is not None and below.name not in cands:
                     cands[below.name] = below
                     todo.append(below)
-        hand = np.asarray(self.eyes.hand[:2], float)
+        hand = np.asarray(self.hand.hand[:2], float)
         dist = {name: float(np.hypot(*(np.asarray(n.position[:2]) - hand)))
                 for name, n in cands.items()}
         near = min(dist.values()) + TIE_MM

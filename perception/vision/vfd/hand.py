@@ -29,8 +29,6 @@ from perception.vision.frames import Frame
 from perception.vision.vfd.base import BLOCK_MIN, HAND_BAND, VFD, VIEWS, band, centroid
 from perception.vision.vfd.resources import VisionResources, Window
 
-REPLACE_MM = 120.0  # re-place the tracker when the motion-detector disagrees by more (Sec. V-A)
-
 # Window sizes (px) and the simplified hand structure (mm) the constraints encode.
 PALM_WIN = {"top": (44, 34), "side": (32, 26)}
 FINGER_WIN = (14, 16)
@@ -103,9 +101,14 @@ class HandTracker(VFD):
     """Tracks the hand; ``target()`` is the 3-D holder position, ``velocity`` in mm/s."""
 
     def __init__(self, cameras: Mapping[str, Camera], resources: VisionResources,
-                 history: int = 7) -> None:
-        """Allocate the palm, finger and holder windows (6 of the 32)."""
+                 history: int = 7, replace_mm: float = 120.0) -> None:
+        """Allocate the palm, finger and holder windows (6 of the 32).
+
+        ``replace_mm``: re-place the tracker when the motion-detector disagrees by more
+        (Sec. V-A; rules/constants.yaml ``repositioning-distance``, footnote 12).
+        """
         super().__init__(cameras, resources)
+        self.replace_mm = float(replace_mm)
         size = {v: self.cameras[v].size for v in VIEWS}
         win = {v: [] for v in VIEWS}
         try:
@@ -146,11 +149,11 @@ class HandTracker(VFD):
         self.running = True
 
     def stimulate(self, xyz: Sequence[float] | None) -> bool:
-        """A motion-detector position: re-place the tracker if it is lost or > 120 mm off."""
+        """A motion-detector position: re-place the tracker if it is lost or too far off."""
         if xyz is None:
             return False
         if not self.tracking or self._target is None or \
-                np.linalg.norm(np.asarray(xyz) - self._target) > REPLACE_MM:
+                np.linalg.norm(np.asarray(xyz) - self._target) > self.replace_mm:
             self.place(xyz)
             return True
         return False

@@ -1,27 +1,27 @@
-"""ENV-node helpers for the region VFDs: change and coplanarity (Sec. III-D).
+"""The change-detector ENV-node: SilDiff, what changed in a motion's target region.
 
-Each node turns the engine's view of an ACT-node and the environment model
-into 3-D regions for a VFD (docs/vision.md) and its result into a Detection.
-Regions come from the env model (measured boxes) and the tracked hand; pixels
-only from the current frame through the VFD's windows. The guided search
-(:Near) is in detectors_search.py.
+At a motion's start and end the change-detector takes snapshots of the region
+Fig. 6(3) prescribes (the target block with an empty hand; the place just
+above the target, sized like the held object, with a full one) and judges them
+by image subtraction and area thresholding (Sec. III-D1): ``appeared``,
+``vanished`` or ``nochange``, with the centre of the change. Regions come from
+the environment model and the tracked hand; pixels only from the current frame
+through the detector's windows (docs/seeing.md).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from lbw_engine.model.env import EnvModel, EnvNode
+from lbw_engine.model.env import EnvModel
 from lbw_engine.see.detectors import ActView, Detection
+from perception.vision.envnodes.base import EnvNodeBase
+from perception.vision.envnodes.hand import box
 from perception.vision.vfd.base import BLOCK_MIN, HAND_BAND, Region3D, band, region_mask
 from perception.vision.vfd.change import APPEARED, DISAPPEARED, NO_CHANGE, ChangeDetector, Snapshot
-from perception.vision.vfd.coplanar import CoplanarDetector
-
-if TYPE_CHECKING:  # pragma: no cover
-    from perception.vision.envnodes.eyes import Eyes
 
 PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, align slide)
 PICK_MARGIN_MM = 8.0
@@ -35,39 +35,22 @@ PLAIN_VIEW, KEPT = 0.2, 0.5
 # than FIT_SLACK_MM are checked against the image; the release point needs a block-pixel
 # fraction FIT_MARGIN higher to win (see ChangeNode.placed_x).
 FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
-CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for CoplDet)
-MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
 
+class ChangeNode(EnvNodeBase):
+    """SilDiff: change-detector snapshots of a motion's target region (Sec. III-D1)."""
 
-
-def box(node: EnvNode, center: Sequence[float] | None = None) -> Region3D:
-    """The region of an env node's measured box (optionally moved to ``center``)."""
-    return Region3D.around(center if center is not None else node.position, node.size)
-
-
-def held_box(eyes: Eyes, env: EnvModel) -> tuple[EnvNode, Region3D] | None:
-    """The held object and its box, hanging where the grasp put it under the tracked hand."""
-    held = [env.nodes[n] for n in env.held() if n in env.nodes]
-    if not held or eyes.hand is None or held[0].size is None:
-        return None
-    return held[0], box(held[0], eyes.hand + eyes.grip)
-
-
-class ChangeNode:
-    """SilDiff: change-detector snapshots of a LocalMotion's target region (Sec. III-D1)."""
-
+    name = "change-detector"
     answers = (APPEARED, DISAPPEARED, NO_CHANGE)  # the change-detector's own words
 
-    def __init__(self, eyes: Eyes) -> None:
+    def __init__(self, *args: Any) -> None:
         """A change-detector on the shared windows."""
-        self.eyes = eyes
-        self.detector = ChangeDetector(eyes.cameras, eyes.resources)
+        super().__init__(*args)
+        self.detector = ChangeDetector(self.sight.cameras, self.sight.resources)
 
     def region(self, act: ActView, env: EnvModel) -> tuple[Region3D, tuple[float, ...]] | None:
         """Snapshot region (Fig. 6(3)) and the expected object box size."""
-        eyes = self.eyes
         targets = [n for n in env.get(act.target) if n.position is not None]
-        held = held_box(eyes, env)
+        held = self.hand.held_box(env)
         if held is not None and act.special:
             node, hb = held
             tops = [n.top() for n in targets] or [0.0]
@@ -87,24 +70,25 @@ class ChangeNode:
 
     def snapshot(self, act: ActView, env: EnvModel) -> Any:
         """First snapshot: the region and its window pixels; the last one is taken at compare."""
-        if self.eyes.frame is None:
+        if self.sight.frame is None:
             return None
+        self.hand.observe(env)
         found = self.region(act, env)
         if found is None:
             return None
         region, size = found
         self.detector.attention(region)
-        return {"size": size, "shot": self.detector.take(self.eyes.frame),
-                "hold": self.eyes.tracker.holding_evidence}
+        return {"size": size, "shot": self.detector.take(self.sight.frame),
+                "hold": self.hand.tracker.holding_evidence}
 
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
         """Appeared / disappeared / no-change, and where (for a place: the release point)."""
-        if not first or self.eyes.frame is None:
+        if not first or self.sight.frame is None:
             return None
         det, shot = self.detector, first["shot"]
         det.attention(shot.region)
         det.area_threshold = self.threshold(shot.region, first["size"])
-        last = det.take(self.eyes.frame)
+        last = det.take(self.sight.frame)
         result = det.judge(shot, last)
         pos = det.target()
         if result == NO_CHANGE:
@@ -114,22 +98,24 @@ class ChangeNode:
             # Only the way the env model allows: a block can leave the hand only if the motion
             # carried one (its special slot), and join it only if the hand came empty (a block
             # seen between open fingers above a touched one is not a grasp).
-            before, after = first["hold"], self.eyes.tracker.holding_evidence
+            before, after = first["hold"], self.hand.tracker.holding_evidence
             if act.special and before >= HOLDING and after <= EMPTY:
                 result = APPEARED
             elif (not act.special and before <= EMPTY and after >= HOLDING
                   and not self.still_there(act, env, shot, last)):
                 result = DISAPPEARED
-        if result == APPEARED and self.eyes.release is not None:
+        let_go = self.hand.let_go(act.since)
+        if result == APPEARED and let_go is not None:
             # The side camera looks along +y: it fixes x (and z) of the changed area well but
             # not its depth; the top view of the spot is hidden by the hand. The block was set
             # down centred between the fingers, so y comes from the hand at the release.
-            rel = self.eyes.release
+            rel = let_go.spot
             x, z = (float(pos[0]), float(pos[2])) if pos is not None else (rel[0], rel[2])
+            released = self.hand.held_box(env, at=let_go, spot=True)
             held = [env.nodes[n] for n in act.special if n in env.nodes]
-            if pos is not None and held and held[0].size is not None:
-                x = self.placed_x(x, float(rel[0] + self.eyes.spot_grip[0]),
-                                  (float(rel[1]), z), held[0].size, last)
+            if pos is not None and held and held[0].size is not None and released is not None:
+                x = self.placed_x(x, float(released[1].center[0]), (float(rel[1]), z),
+                                  held[0].size, last)
             pos = np.array([x, rel[1], z])
         return Detection(value=result,
                          position=tuple(float(c) for c in pos) if pos is not None else None)
@@ -155,7 +141,7 @@ class ChangeNode:
             seen = total = 0
             for view, (window,) in self.detector.windows.items():
                 img = last.pixels[view]
-                mask = region_mask(self.eyes.cameras[view], region, window) & \
+                mask = region_mask(self.sight.cameras[view], region, window) & \
                     ~band(img, *HAND_BAND)
                 total += int(mask.sum())
                 seen += int((mask & (img >= BLOCK_MIN)).sum())
@@ -178,7 +164,7 @@ class ChangeNode:
         others = [n for n in env.objects() if n.name not in names and n.position is not None
                   and n.size is not None]
         for view, (window,) in self.detector.windows.items():
-            cam = self.eyes.cameras[view]
+            cam = self.sight.cameras[view]
             a, b = first.pixels[view], last.pixels[view]
             outline = np.zeros(a.shape, bool)
             for n in targets:
@@ -195,76 +181,9 @@ class ChangeNode:
 
     def threshold(self, region: Region3D, size: Sequence[float]) -> float:
         """Area fraction that counts as a change: a third of the object's share of the window."""
-        cam = self.eyes.cameras["side"]
+        cam = self.sight.cameras["side"]
         obj = Region3D.around(region.center, size)
         x0, y0, x1, y1 = cam.box_region(obj.lo, obj.hi)
         w0, v0, w1, v1 = cam.box_region(region.lo, region.hi, margin=1)
         share = max(1, (x1 - x0) * (y1 - y0)) / max(1, (w1 - w0) * (v1 - v0))
         return float(min(0.12, share / 3.0))
-
-
-class CoplanarNode:
-    """CoplDet: are the moved block's faces coplanar with a neighbour's (Fig. 5, ALIGN)?"""
-
-    answers = (1, 0, -1)  # difference of truth values, end minus start (Table V caption)
-
-    def __init__(self, eyes: Eyes) -> None:
-        """A coplanar-detector on the shared windows."""
-        self.eyes = eyes
-        self.detector = CoplanarDetector(eyes.cameras, eyes.resources)
-
-    def status(self, act: ActView, env: EnvModel) -> dict[str, Any]:
-        """(neighbour, face) pairs whose face is coplanar with the moved block's, and whether
-        some face was hidden (then judged from the measured boxes instead of the image)."""
-        held = held_box(self.eyes, env)
-        if held is None or self.eyes.frame is None:
-            return {"pairs": set(), "hidden": False}
-        node, a = held
-        if self.eyes.released is not None:
-            a = self.eyes.released  # let go: it stays where the hand left it (Sec. V-B5)
-        out, hidden = set(), False
-        for other in env.objects():
-            if other.name == node.name or other.position is None or other.size is None:
-                continue
-            b = box(other)
-            for axis, faces in ((1, ("east", "west")), (0, ("north", "south"))):
-                across = 1 - axis
-                gap = abs(a.center[axis] - b.center[axis]) - (a.size[axis] + b.size[axis]) / 2
-                overlap = (a.size[across] + b.size[across]) / 2 - abs(a.center[across]
-                                                                      - b.center[across])
-                # side by side along this axis (not overlapping along it), faces across it
-                if abs(gap) > CONTACT_MM or overlap <= 0 or abs(a.lo[2] - b.lo[2]) > 10.0:
-                    continue
-                for face in faces:
-                    seen = self.detector.check(self.eyes.frame, a, b, face)
-                    if self.detector.step_mm is None:  # the palm or a finger hides an edge
-                        hidden = True
-                        seen = abs(_face(a, face) - _face(b, face)) <= MODEL_TOLERANCE_MM
-                    if seen:
-                        out.add((other.name, face))
-        self.detector.free()
-        return {"pairs": out, "hidden": hidden}
-
-    def snapshot(self, act: ActView, env: EnvModel) -> Any:
-        """Coplanar face pairs now."""
-        return self.status(act, env)
-
-    def pending(self, last: Any) -> bool:
-        """The end state cannot be judged yet: the hand still hides a face's edge (the engine
-        then asks again on later frames, until the hand has cleared it or the parent ends)."""
-        return bool(last and last["hidden"])
-
-    def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
-        """positive: a coplanar pair appeared; negative: one was lost; else unchanged."""
-        first = first["pairs"] if first else set()
-        last = last["pairs"] if last else set()
-        sign = 1 if last - first else -1 if first - last else 0
-        # the neighbours whose faces became coplanar with the moved block's (ALIGN's `found`)
-        found = tuple(sorted({name for name, _ in last - first}))
-        return Detection(value=sign, found=found)
-
-
-def _face(region: Region3D, face: str) -> float:
-    """World coordinate of a box's named vertical face (north/south: y, east/west: x)."""
-    axis = 1 if face in ("north", "south") else 0
-    return float(region.hi[axis] if face in ("north", "east") else region.lo[axis])

@@ -1,0 +1,92 @@
+"""The coplanar-detector ENV-node: CoplDet, did a moved block's side face line up (Fig. 5)?
+
+A FineMotion's snapshots list the (neighbour, face) pairs whose vertical faces
+are coplanar with the moved block's, judged from edge junctions in the image
+(perception/vision/vfd/coplanar.py); the comparison answers the temporal
+difference of the truth value (Table V caption): 1 when a coplanar pair
+appeared (ALIGN), -1 when one was lost, 0 otherwise, and names the neighbours.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from lbw_engine.model.env import EnvModel
+from lbw_engine.see.detectors import ActView, Detection
+from perception.vision.envnodes.base import EnvNodeBase
+from perception.vision.envnodes.hand import box
+from perception.vision.vfd.base import Region3D
+from perception.vision.vfd.coplanar import CoplanarDetector
+
+CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for CoplDet)
+MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
+
+
+
+
+class CoplanarNode(EnvNodeBase):
+    """CoplDet: are the moved block's faces coplanar with a neighbour's (Fig. 5, ALIGN)?"""
+
+    name = "coplanar-detector"
+    answers = (1, 0, -1)  # difference of truth values, end minus start (Table V caption)
+
+    def __init__(self, *args: Any) -> None:
+        """A coplanar-detector on the shared windows."""
+        super().__init__(*args)
+        self.detector = CoplanarDetector(self.sight.cameras, self.sight.resources)
+
+    def status(self, act: ActView, env: EnvModel) -> dict[str, Any]:
+        """(neighbour, face) pairs whose face is coplanar with the moved block's, and whether
+        some face was hidden (then judged from the measured boxes instead of the image)."""
+        self.hand.observe(env)
+        # where the hand let go of it (or holds it now): it stays there (Sec. V-B5)
+        held = self.hand.held_box(env, at=self.hand.let_go(act.since))
+        if held is None or self.sight.frame is None:
+            return {"pairs": set(), "hidden": False}
+        node, a = held
+        out, hidden = set(), False
+        for other in env.objects():
+            if other.name == node.name or other.position is None or other.size is None:
+                continue
+            b = box(other)
+            for axis, faces in ((1, ("east", "west")), (0, ("north", "south"))):
+                across = 1 - axis
+                gap = abs(a.center[axis] - b.center[axis]) - (a.size[axis] + b.size[axis]) / 2
+                overlap = (a.size[across] + b.size[across]) / 2 - abs(a.center[across]
+                                                                      - b.center[across])
+                # side by side along this axis (not overlapping along it), faces across it
+                if abs(gap) > CONTACT_MM or overlap <= 0 or abs(a.lo[2] - b.lo[2]) > 10.0:
+                    continue
+                for face in faces:
+                    seen = self.detector.check(self.sight.frame, a, b, face)
+                    if self.detector.step_mm is None:  # the palm or a finger hides an edge
+                        hidden = True
+                        seen = abs(_face(a, face) - _face(b, face)) <= MODEL_TOLERANCE_MM
+                    if seen:
+                        out.add((other.name, face))
+        self.detector.free()
+        return {"pairs": out, "hidden": hidden}
+
+    def snapshot(self, act: ActView, env: EnvModel) -> Any:
+        """Coplanar face pairs now."""
+        return self.status(act, env)
+
+    def pending(self, last: Any) -> bool:
+        """The end state cannot be judged yet: the hand still hides a face's edge (the engine
+        then asks again on later frames, until the hand has cleared it or the parent ends)."""
+        return bool(last and last["hidden"])
+
+    def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
+        """positive: a coplanar pair appeared; negative: one was lost; else unchanged."""
+        first = first["pairs"] if first else set()
+        last = last["pairs"] if last else set()
+        sign = 1 if last - first else -1 if first - last else 0
+        # the neighbours whose faces became coplanar with the moved block's (ALIGN's `found`)
+        found = tuple(sorted({name for name, _ in last - first}))
+        return Detection(value=sign, found=found)
+
+
+def _face(region: Region3D, face: str) -> float:
+    """World coordinate of a box's named vertical face (north/south: y, east/west: x)."""
+    axis = 1 if face in ("north", "south") else 0
+    return float(region.hi[axis] if face in ("north", "east") else region.lo[axis])

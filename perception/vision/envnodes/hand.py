@@ -1,0 +1,283 @@
+"""What every image-backed ENV-node shares: the current frame and the tracked hand.
+
+``Sight`` is the infrastructure of Fig. 2 every VFD shares: the two camera
+models, the 32-window resource manager and the current frame. ``HandState`` is
+the HandLoc node of Table II as the images show it: the always-on
+motion-detector and hand-tracker (Sec. III-C, V-A) run on every frame whatever
+is asked, and their result is kept as a short timed path of the hand. It is the
+only state the ENV-nodes share; each node answers its queries from it, from
+the ENV-nodes it is given and from the frame, and keeps nothing another node
+reads.
+
+The path answers questions about a stretch of time (``since`` = when the
+asking motion began): the lowest point, where the hand let go, the height it
+had then. The grip offset of a held object (where it hangs under the hand) is
+measured from the path too: at the lowest point of the hand over the object's
+resting place before it was held.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from lbw_engine.model.env import EnvModel, EnvNode
+from lbw_engine.names import HAND
+from lbw_engine.rules import RuleSet
+from lbw_engine.see.detectors import Detection
+from perception.vision.camera import WORKSPACE_HI, WORKSPACE_LO, Camera
+from perception.vision.envnodes.handpath import HandPath, PalmCheck, median3
+from perception.vision.frames import Frame
+from perception.vision.vfd.base import Region3D
+from perception.vision.vfd.hand import HandTracker
+from perception.vision.vfd.motion import MotionDetector
+from perception.vision.vfd.resources import VisionResources
+
+Vec3 = tuple[float, float, float]
+
+BORDER_MM = 40.0  # the hand was lost this close to the workspace's edge: it left (:Disappeared)
+REENTRY_S = 0.5  # s after leaving before a moving thing counts as a new hand (no Case-2 echo)
+HISTORY_S = 30.0  # s of the hand's path kept (a motion's stretch is a few seconds)
+LET_GO_MM = 8.0  # the hand let go at the last point of its path this close to its lowest
+GRASP_MARGIN_MM = 20.0  # a grasp is made over the object's footprint grown by this
+SETTLE_FRAMES = 5  # tracked frames after a (re)placement before the velocity is trusted
+
+
+@dataclass(frozen=True)
+class Sample:
+    """The hand on one frame: time, tracked point, palm-checked point ("spot"), speed."""
+
+    t: float
+    hand: np.ndarray
+    spot: np.ndarray
+    speed: float
+
+
+class Sight:
+    """The camera models, the window resource manager and the current frame (Fig. 2)."""
+
+    def __init__(self, cameras: Mapping[str, Camera]) -> None:
+        """Both views' cameras; windows come from one 32-window manager."""
+        self.cameras = dict(cameras)
+        self.resources = VisionResources()
+        self.frame: Frame | None = None
+        self.t = 0.0
+        self.pixels: list[int] = []  # pixels read per frame (benchmark)
+
+    def advance(self, t: float, frame: Frame) -> bool:
+        """Make ``frame`` current; False when it already is (every node calls this)."""
+        if frame is self.frame:
+            return False
+        if self.frame is not None:
+            self.pixels.append(self.resources.end_frame())
+        self.frame, self.t = frame, t
+        return True
+
+
+def box(node: EnvNode, center: Sequence[float] | None = None) -> Region3D:
+    """The region of an ENV-node's measured box (optionally moved to ``center``)."""
+    return Region3D.around(center if center is not None else node.position, node.size)
+
+
+def inside(p: Sequence[float], margin: float = 0.0) -> bool:
+    """Whether ``p`` lies over the table, ``margin`` mm beyond (or, negative, within) it."""
+    return bool(WORKSPACE_LO[0] - margin <= p[0] <= WORKSPACE_HI[0] + margin
+                and WORKSPACE_LO[1] - margin <= p[1] <= WORKSPACE_HI[1] + margin)
+
+
+def vec(p: Iterable[float]) -> Vec3:
+    """A plain float triple."""
+    x, y, z = (float(c) for c in p)
+    return (x, y, z)
+
+
+class HandState:
+    """The tracked hand (HandLoc, Table II): status, timed path and grip, from images."""
+
+    def __init__(self, sight: Sight, rules: RuleSet) -> None:
+        """The always-on motion-detector and hand-tracker on ``sight``'s windows."""
+        constants = rules.constants
+        self.sight = sight
+        self.motion = MotionDetector(sight.cameras, sight.resources,
+                                     interval=float(constants["motion-detector-interval"]))
+        self.motion.start()
+        self.tracker = HandTracker(sight.cameras, sight.resources,
+                                   replace_mm=float(constants["repositioning-distance"]))
+        low, high = rules.motion_features.ranges[next(iter(rules.motion_features.ranges))]
+        self.v_slow, self.v_fast = float(low), float(high)  # V_L1, V_H1 (footnote 11)
+        self.status = "absent"  # absent | tracking | lost | gone
+        self.t_gone = -1e9
+        self.t_seen = 0.0  # last frame the tracker saw the hand
+        self.t_found: float | None = None  # when the current hand was found (a new one)
+        self.found_at: np.ndarray | None = None
+        self.moving: np.ndarray | None = None  # the motion-detector's latest point
+        self.settled = 0  # frames tracked since the tracker was (re)placed
+        self.path = HandPath(float(constants["hand-velocity-window"]))
+        self.raw: deque[np.ndarray] = deque(maxlen=3)  # last tracker positions (median of 3)
+        self.checked: deque[np.ndarray] = deque(maxlen=3)  # the same, x checked by the palm
+        self.palm_check = PalmCheck()
+        self.hand: np.ndarray | None = None  # tracked 3-D hand position this frame
+        self.spot: np.ndarray | None = None  # the same, x from the palm where they disagree
+        self.velocity = np.zeros(3)
+        self.history: deque[Sample] = deque()
+        self._rest: dict[str, np.ndarray] = {}  # object -> its last position while not held
+        self._grip: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # held -> (hand, spot) grip
+
+    # -- per frame (always on, Sec. V-A) ----------------------------------------------
+    def update(self, t: float, frame: Frame) -> None:
+        """Run the motion-detector and the hand-tracker on a new frame, once."""
+        if not self.sight.advance(t, frame):
+            return
+        self.motion.update(frame)
+        self.moving = self.motion.target() if self.motion.found() else None
+        self._follow_motion(t)
+        self.tracker.update(frame)
+        self.settled += 1
+        if self.status == "tracking" and not self.tracker.tracking:
+            gone = self.hand is None or not inside(self.hand, -BORDER_MM)
+            self.status, self.t_gone = ("gone", t) if gone else ("lost", self.t_gone)
+        if self.settled == 1:
+            self.path.clear()
+            self.raw.clear()
+            self.checked.clear()
+            self.palm_check.reset()
+        if self.tracker.tracking and self.tracker.position is not None:
+            self._sample(t)
+        self._acquire(t)
+
+    def _follow_motion(self, t: float) -> None:
+        """Keep the tracker on the hand the motion-detector sees (Sec. V-A, Fig. 10)."""
+        if self.moving is None:
+            return
+        if self.status == "tracking":
+            if self.tracker.stimulate(self.moving):  # re-placed: too far off (footnote 12)
+                self.settled = 0
+        elif self.status == "lost" and inside(self.moving):
+            self.tracker.place(self.moving)  # the same hand, found again: not a new one
+            self.status, self.settled = "tracking", 0
+
+    def _acquire(self, t: float) -> None:
+        """A moving thing inside the workspace while no hand is tracked is a new hand:
+        the tracker is placed on it and follows it from the next frame (Sec. III-C1)."""
+        if self.moving is None or self.status not in ("absent", "gone"):
+            return
+        if self.status == "gone" and t - self.t_gone < REENTRY_S:
+            return
+        if inside(self.moving, BORDER_MM):
+            self.tracker.place(self.moving)
+            self.status, self.settled = "tracking", 0
+            self.hand = np.asarray(self.moving, float)
+            self.t_found, self.found_at = t, self.hand.copy()
+
+    def _sample(self, t: float) -> None:
+        """Record this frame's hand: median of three (single-frame jumps), palm-checked x."""
+        # A finger window may snap to a neighbouring edge for a frame (z jumps of a few
+        # cm beside carried blocks); the median of three drops such single-frame jumps.
+        self.raw.append(self.tracker.position)
+        self.checked.append(self.palm_check(self.tracker))
+        self.t_seen = t
+        self.hand = median3(self.raw)
+        # Where a held block hangs or was let go: x from the palm when the finger windows
+        # disagree with it (handpath.PalmCheck). The path, the speeds and heights keep the
+        # tracker's own point: a switch between the two is a jump.
+        self.spot = median3(self.checked)
+        self.path.add(t, self.hand)
+        self.velocity = self.path.velocity
+        self.history.append(Sample(t, self.hand, self.spot, self.speed()))
+        while t - self.history[0].t > HISTORY_S:
+            self.history.popleft()
+
+    # -- the hand now ------------------------------------------------------------------
+    @property
+    def tracking(self) -> bool:
+        """Whether a hand is being tracked."""
+        return self.status == "tracking" and self.hand is not None
+
+    @property
+    def steady(self) -> bool:
+        """Whether the tracker has followed the hand long enough to trust its velocity."""
+        return self.settled >= SETTLE_FRAMES
+
+    def speed(self) -> float:
+        """Current hand speed (mm/s)."""
+        return float(np.linalg.norm(self.velocity))
+
+    def detection(self, **kw: Any) -> Detection:
+        """A detection carrying the measured hand position (HandLoc, Table II)."""
+        pos = {HAND: vec(self.hand)} if self.hand is not None else {}
+        return Detection(positions=pos, **kw)
+
+    # -- the hand's path since a time ----------------------------------------------------
+    def since(self, t: float) -> list[Sample]:
+        """The path from time ``t`` on (the last sample before it when none is after)."""
+        out: list[Sample] = []
+        for s in reversed(self.history):
+            out.append(s)
+            if s.t <= t:
+                break
+        out.reverse()
+        return out
+
+    def lowest(self, t: float) -> Sample | None:
+        """The lowest point of the path since ``t``."""
+        path = self.since(t)
+        return min(path, key=lambda s: float(s.hand[2])) if path else None
+
+    def let_go(self, t: float) -> Sample | None:
+        """Where the hand let go since ``t``: its last point near the lowest one.
+
+        Fingers open at the bottom of a place, so the release is the last moment the
+        hand was still within LET_GO_MM of its lowest point; after it the hand rises.
+        """
+        path = self.since(t)
+        if not path:
+            return None
+        low = min(float(s.hand[2]) for s in path)
+        return next(s for s in reversed(path) if float(s.hand[2]) <= low + LET_GO_MM)
+
+    # -- what the hand holds (the HandLoc subnode, Fig. 8) --------------------------------
+    def observe(self, env: EnvModel) -> None:
+        """Note where each object rests and measure the grip of a newly held one."""
+        held = set(env.held())
+        for name in [n for n in self._grip if n not in held]:
+            del self._grip[name]
+        for node in env.objects():
+            if node.position is None:
+                continue
+            if node.name not in held:
+                self._rest[node.name] = np.asarray(node.position, float)
+            elif node.name not in self._grip and node.name in self._rest:
+                self._grip[node.name] = self._measure_grip(node)
+
+    def _measure_grip(self, node: EnvNode) -> tuple[np.ndarray, np.ndarray]:
+        """Object centre minus the hand (and the spot) where the hand closed on it."""
+        rest = self._rest[node.name]
+        half = np.asarray(node.size[:2], float) / 2.0 + GRASP_MARGIN_MM
+        over = [s for s in self.history
+                if np.all(np.abs(s.hand[:2] - rest[:2]) <= half)] or list(self.history)
+        if not over:
+            return np.zeros(3), np.zeros(3)
+        grasp = min(over, key=lambda s: float(s.hand[2]))
+        return rest - grasp.hand, rest - grasp.spot
+
+    def held_box(self, env: EnvModel, at: Sample | None = None, spot: bool = False
+                 ) -> tuple[EnvNode, Region3D] | None:
+        """The held object and its box under the hand (now, or at sample ``at``).
+
+        ``spot`` hangs it under the palm-checked point (where things are, docs/seeing.md)
+        instead of the tracker's own point.
+        """
+        held = [env.nodes[n] for n in env.held() if n in env.nodes]
+        if not held or held[0].size is None or self.hand is None:
+            return None
+        self.observe(env)
+        grip = self._grip.get(held[0].name)
+        if grip is None:
+            return None
+        point = (at.spot if spot else at.hand) if at is not None else \
+            (self.spot if spot and self.spot is not None else self.hand)
+        return held[0], box(held[0], point + grip[1 if spot else 0])
