@@ -129,8 +129,9 @@ def add_place(problem: SymbolicProblem, rel: Relation, family: str) -> tuple[Pla
         name += "-"
     place = Place(name, rel.subject, rel.objects, [rel])
     problem.places[name] = place
-    sites = frozenset(f for each, atom in problem.domain.initial if each == "site"
-                      for s in rel.objects for f in ground(atom, {"place": name, "support": s}))
+    rows = [{"place": name, "support": s, "owner": rel.subject} for s in rel.objects]
+    sites = frozenset(f for each, atom in problem.domain.initial if each in ("site", "owner")
+                      for b in rows for f in ground(atom, b))
     problem.init = problem.init | sites
     return place, sites
 

@@ -142,6 +142,7 @@ def _initial(problem: SymbolicProblem, facts: set[Fact]) -> frozenset[Fact]:
                  if b not in under],
         "site": [{"place": p.name, "support": s} for p in problem.places.values()
                  for s in p.supports],
+        "owner": [{"place": p.name, "owner": p.owner} for p in problem.places.values()],
     }
     return frozenset(f for each, atom in domain.initial for b in rows[each]
                      for f in ground(atom, b))

@@ -27,7 +27,8 @@ WHEN_KINDS = ("single", "multiple")
 ATOM_LISTS = ("pre", "planner-pre", "add", "remove")
 KINDS = ("agents", "fixed", "movable")  # analysis.yaml's object roles, and the rest
 # `initial` generators: what each ranges over -> the variables it binds.
-EACH = {"agent": ("agent",), "free": ("free",), "site": ("place", "support")}
+EACH = {"agent": ("agent",), "free": ("free",), "site": ("place", "support"),
+        "owner": ("place", "owner")}
 
 
 @dataclass(frozen=True)
@@ -151,7 +152,8 @@ def _initial(reader: Reader, data: dict, domain: Domain) -> tuple[tuple[str, Ato
         reader.keys(row, f"initial[{i}]", ("each", "atom"))
         each = reader.one_of(row["each"], EACH, "initial: each", row, "each")
         kinds = {"agent": domain.kinds["agents"], "free": domain.kinds["movable"],
-                 "place": domain.place_type or "", "support": domain.kinds["movable"]}
+                 "place": domain.place_type or "", "support": domain.kinds["movable"],
+                 "owner": domain.kinds["movable"]}
         params = {v: Param(v, kinds[v]) for v in EACH[each] if kinds[v] in domain.types}
         out.append((each, _atom(reader, domain, params, "initial", row["atom"], row, "atom",
                                 f"initial[{i}]")))
