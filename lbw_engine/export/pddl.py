@@ -79,7 +79,11 @@ class Model:
 
 
 def build_model(sp: SymbolicProblem, name: str, hierarchical: bool = False) -> Model:
-    """The UP problem (a HierarchicalProblem for HDDL) of ``sp``, with its init and goal."""
+    """The UP problem (a HierarchicalProblem for HDDL) of ``sp``, with its init and goal.
+
+    The hierarchy is what was demonstrated (a PACHIEVE lifts a loaded object,
+    Fig. 14), so a hierarchical problem leaves out domain.yaml's ``planner-pre``.
+    """
     from unified_planning.model.htn import HierarchicalProblem
 
     problem = HierarchicalProblem(name) if hierarchical else up.Problem(name)
@@ -96,7 +100,7 @@ def build_model(sp: SymbolicProblem, name: str, hierarchical: bool = False) -> M
     sizes = sorted({1} | {len(p.supports) for p in sp.places.values()})
     statics = _statics(sp)
     for op in sp.domain.operations.values():
-        for variant, action in _variants(model, op, sizes, statics):
+        for variant, action in _variants(model, op, sizes, statics, not hierarchical):
             model.variants[variant.name] = variant
             problem.add_action(action)
     for fact in sorted(sp.init | _listed(model, statics, sp.init)):
@@ -167,7 +171,8 @@ def _listed(model: Model, statics: set[str], init) -> set[Fact]:
     return out
 
 
-def _variants(model: Model, op: OperationDomain, sizes: list[int], statics: set[str]):
+def _variants(model: Model, op: OperationDomain, sizes: list[int], statics: set[str],
+              planner: bool):
     """(Variant, UP action) for each combination of list lengths of ``op``."""
     lists = [p for p in op.params.values() if p.many]
     for combo in itertools.product(sizes, repeat=len(lists)):
@@ -184,15 +189,16 @@ def _variants(model: Model, op: OperationDomain, sizes: list[int], statics: set[
         kinds = {n: model.types[op.params[d].type] for n, d in params}
         action = up.InstantaneousAction(name, **kinds)
         yield Variant(name, op.name, size, tuple(params)), \
-            _fill(model, op, action, tokens, statics)
+            _fill(model, op, action, tokens, statics, planner)
 
 
-def _fill(model: Model, op: OperationDomain, action, tokens: dict, statics: set[str]):
+def _fill(model: Model, op: OperationDomain, action, tokens: dict, statics: set[str],
+          planner: bool):
     """Preconditions and effects of one variant (parameters stand in for names)."""
     def expr(fact: Fact):
         return model.fluents[fact[0]](*(action.parameter(a) for a in fact[1:]))
 
-    pre = [f for atom in (*op.pre, *op.planner_pre)
+    pre = [f for atom in (*op.pre, *(op.planner_pre if planner else ()))
            for f in _static_listed(model, atom, tokens, statics) or ground(atom, tokens)]
     add = [f for atom in op.add for f in ground(atom, tokens)]
     gone: list[Fact] = []
