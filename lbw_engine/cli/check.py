@@ -8,6 +8,7 @@ from pathlib import Path
 from lbw_engine.errors import InputError
 from lbw_engine.rules import RULE_FILES, load_rules
 from lbw_engine.rules import commands as commandrules
+from lbw_engine.rules.domain import load_domain
 from lbw_engine.understand import load_rules as load_analysis_rules
 from lbw_engine.understand import load_templates
 
@@ -48,6 +49,7 @@ def run(args: argparse.Namespace) -> int:
     analysis = load_analysis_rules(rules.directory)
     templates = load_templates(analysis)
     commands = commandrules.load_dir(rules.directory)
+    domain = load_domain(rules.directory)
     words = {t.pattern.value for t in templates.parser.terminals if t.pattern.type == "str"}
     cross_check(rules.operations, [
         (words, templates.file, "template"),
@@ -55,10 +57,11 @@ def run(args: argparse.Namespace) -> int:
         (set(commands.operations), Path(commands.file), "command expansion"),
     ])
     print(
-        f"lbw check: {rules.directory}: {len(RULE_FILES) + 3} rule files OK "
+        f"lbw check: {rules.directory}: {len(RULE_FILES) + 4} rule files OK "
         f"({len(rules.events)} events, {len(rules.motions)} motion classes, "
         f"{len(rules.operations)} operations, {len(rules.transitions)} transitions, "
         f"{sum(len(r) for r in rules.redirections.values())} redirections, "
-        f"{len(templates.parser.rules)} template rules, {len(commands.macros)} command macros)"
+        f"{len(templates.parser.rules)} template rules, {len(commands.macros)} command macros, "
+        f"{len(domain.operations)} operations in the symbolic domain)"
     )
     return 0
