@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from lbw_engine.do.plan import Operator, Plan, Relation
+from lbw_engine.do.plan import Plan, Relation
 from lbw_engine.errors import InputError
 from lbw_engine.rules.domain import Domain
 from lbw_engine.understand.domain import Fact, State, ground

@@ -1,9 +1,9 @@
 """rules/domain.yaml: each operation's parameters, preconditions and effects (Sec. IX-C2).
 
 The symbolic domain is checked at load time against the other rule files: its
-operations are operations of operations.yaml (an operation it leaves out is
-unknown to the symbolic checks and the export, which say so when they meet it), its relations are exactly
-effects.yaml's, and an operation's effects on those relations are taken from
+operations are operations of operations.yaml (one it leaves out is unknown to
+the symbolic checks and the export, which say so when they meet it), its
+relations are exactly effects.yaml's, and an operation's effects on those relations are taken from
 effects.yaml (compiled here into the same atom form as the preconditions), so
 no fact is written twice. Errors name domain.yaml (or effects.yaml) and the line.
 
