@@ -157,3 +157,19 @@ def test_bad_plan_is_exit_2_and_no_files(tmp_path: Path, capsys, edit, fragment)
     err = capsys.readouterr().err
     assert fragment in err and len(err.strip().splitlines()) == 1
     assert not out.exists() or not any(out.iterdir())
+
+
+def test_docs_export_commands_run_as_written(tmp_path: Path, monkeypatch):
+    """The commands at the top of docs/export.md, run from the repository root."""
+    import re
+    import shlex
+
+    text = (ROOT / "docs" / "export.md").read_text()
+    block = re.search(r"```sh\n(.*?)```", text, re.S).group(1)
+    monkeypatch.chdir(ROOT)
+    for line in block.splitlines():
+        words = shlex.split(line.split("#")[0])
+        assert words[0] == ".venv/bin/lbw"
+        words = [str(tmp_path / w) if w.startswith("out/") else w for w in words[1:]]
+        assert main(words) == 0, line
+    assert (tmp_path / "out" / "bt-run" / "execution.json").exists()
