@@ -30,6 +30,7 @@ SUBCOMMANDS: dict[str, str] = {
     "watch": "watch",
     "analyze": "analyze",
     "execute": "execute",
+    "export": "export",
     "run": "run",
     "demo": "demo",
     "bench": "bench",

@@ -33,6 +33,7 @@ def run(args: argparse.Namespace) -> int:
         f"{len(rules.operations)} operations, {len(rules.transitions)} transitions, "
         f"{sum(len(r) for r in rules.redirections.values())} redirections, "
         f"{len(rules.analysis.templates().parser.rules)} template rules, "
-        f"{len(commands.macros)} command macros)"
+        f"{len(commands.macros)} command macros, "
+        f"{len(rules.domain.operations)} operations in the symbolic domain)"
     )
     return 0

@@ -12,6 +12,7 @@ first), 2 on bad input.
 from __future__ import annotations
 
 import argparse
+import copy
 import math
 import sys
 from collections.abc import Callable
@@ -31,6 +32,7 @@ from lbw_engine.rules.commands import CommandRules
 
 HELP = "Instantiate a plan in the scenario's execution workspace, run it with the robot, verify."
 SETTLE_S = 2.0  # seconds the world runs after the last command before measuring
+VIA = ("trace", "bt")  # how the robot is driven: the traced command list, or a behaviour tree
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -39,6 +41,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("scenario", help="scenario YAML with an `execute` workspace")
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--rules", default=None, help="rules directory (default: bundled rules/)")
+    p.add_argument("--via", choices=VIA, default=VIA[0],
+                   help="trace: run the traced commands; bt: tick the plan's behaviour tree "
+                        "(lbw_engine/do/behaviour.py)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
     plan = planmod.load(args.plan)
     sc = scenario_mod.load(args.scenario)
     with OutputDir(args.out) as out:
-        result = execute_plan(plan, sc, rules)
+        result = execute_plan(plan, sc, rules, via=args.via)
         out.write_text("commands.txt", result.commands_text)
         out.write_json("execution.json", result.report)
         _write_views(out, result.views)
@@ -72,11 +77,13 @@ class ExecutionResult:
 
 
 def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
-                 on_step: Callable[[Any], None] | None = None) -> ExecutionResult:
+                 on_step: Callable[[Any], None] | None = None,
+                 via: str = VIA[0]) -> ExecutionResult:
     """Instantiate ``plan`` in ``sc.execute``, run it with the robot and verify it.
 
     ``sc`` is a loaded ``perception.world.scenario.Scenario``; ``on_step(world)`` is
-    called after every world step of the robot (e.g. to render frames). Raises
+    called after every world step of the robot (e.g. to render frames); ``via="bt"``
+    ticks the plan's behaviour tree instead of running the traced commands. Raises
     InputError when the plan and the scenario do not fit together; a task that
     cannot be done or does not verify gives ``success=False`` with a message.
     """
@@ -109,15 +116,26 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
         matching = match_initial_state(taught, plan_objects(plan), measured)
         report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
         model = _model(taught, sc.shapes, matching, measured, rules)
+        fresh = copy.deepcopy(model) if via == "bt" else None
         tr = trace(plan, rules, model)
     except TaskFailed as exc:
         report.update(stage="instantiation", failure=str(exc), mismatches=[])
         return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report, None, views)
+    robot = Robot(world, rules.arm_frame, rules.home, on_step=on_step, finger=rules.finger)
+    report["via"] = via
+    if fresh is None:
+        log = robot.execute(tr.commands)
+    else:
+        from lbw_engine.do.behaviour import run_tree
+        try:
+            tr, report["ticks"] = run_tree(plan, rules, fresh, robot.execute)
+        except TaskFailed as exc:
+            report.update(stage="execution", failure=str(exc), mismatches=[])
+            return ExecutionResult(False, str(exc), f";;; stopped: {exc}\n", report, None, views)
+        log, model = robot.log, tr.model
     names = list(matching.assigned)
     expected = model.settled(names)
     expected_sup = model.final_supports(names)
-    robot = Robot(world, rules.arm_frame, rules.home, on_step=on_step, finger=rules.finger)
-    log = robot.execute(tr.commands)
     robot.settle(SETTLE_S)
     views["execution-final"] = renderer.render(world.scene())
     verdict = verify(expected, expected_sup, _final_state(world, start, measured, matching),

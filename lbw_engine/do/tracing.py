@@ -124,6 +124,12 @@ class _Walker:
         return 0
 
 
+def trace_leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
+               op: Operator, leaf: str) -> TracedOp:
+    """One leaf's goal and commands against the model as it is now (a behaviour tree's leaf)."""
+    return _leaf(plan, rules, model, expander, op, leaf)
+
+
 def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
           op: Operator, leaf: str) -> TracedOp:
     """Find one leaf's goal and expand its steps."""

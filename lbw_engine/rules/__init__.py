@@ -52,7 +52,7 @@ __all__ = [
 def load_rules(directory: str | Path | None = None) -> RuleSet:
     """Load and check every rule file of ``directory`` (default: the bundled rules)."""
     from lbw_engine.paths import default_rules_dir
-    from lbw_engine.rules import analysis, check, commands, recognition
+    from lbw_engine.rules import analysis, check, commands, domain, recognition
     from lbw_engine.yamlio import load_file
 
     directory = Path(directory) if directory is not None else default_rules_dir()
@@ -67,6 +67,7 @@ def load_rules(directory: str | Path | None = None) -> RuleSet:
     rules.commands = commands.parse(load_file(path), str(path), rules.roles.support,
                                     rules.labels())
     check.check_named_operations(rules)
+    rules.domain = domain.parse(rules)
     return rules
 
 

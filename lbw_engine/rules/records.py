@@ -36,6 +36,7 @@ RULE_FILES = (
     "templates.lark",
     "plot.lark",
     "commands.yaml",
+    "domain.yaml",
 )
 
 Binding = tuple[str, ...]  # alternatives: the first that resolves to nodes wins
@@ -229,6 +230,7 @@ class RuleSet:
     operations: set[str] = field(default_factory=set)
     analysis: Any = None  # lbw_engine.rules.analysis.AnalysisRules
     commands: Any = None  # lbw_engine.rules.commands.CommandRules
+    domain: Any = None  # lbw_engine.rules.domain.Domain (preconditions and effects)
 
     @property
     def hold_relation(self) -> str:
