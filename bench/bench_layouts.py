@@ -75,7 +75,7 @@ def sweep(name: str, count: int, first_seed: int = 1) -> dict[str, Any]:
     if learned.plan is None:
         return {"scenario": name, "learned": False, "failure": learned.failure}
     plan = planmod.parse(learned.plan, file="plan.json")
-    crules = load_rules().commands
+    crules = load_rules()
     scenario = load(path)
     failures, commands, seconds = [], [], []
     for seed in range(first_seed, first_seed + count):

@@ -138,7 +138,7 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
             plan, rules.roles.support, teach_rename(actions, sc)) == true_final(sc, rules.roles)
         rec["analyze_seconds"] = time.perf_counter() - clock
         clock = time.perf_counter()
-        result = execute_plan(planmod.parse(plan, file="plan.json"), sc, crules)
+        result = execute_plan(planmod.parse(plan, file="plan.json"), sc, rules)
         rec["execute_seconds"] = time.perf_counter() - clock
         rec["execution_success"] = bool(result.success)
         if not result.success:

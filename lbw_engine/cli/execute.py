@@ -21,14 +21,13 @@ from typing import Any
 
 from lbw_engine.do import plan as planmod
 from lbw_engine.do.matching import Measured, match_initial_state, plan_objects, taught_shapes
-from lbw_engine.do.model import Body, ExecModel
 from lbw_engine.do.plan import Plan
 from lbw_engine.do.tracing import Trace, format_commands, trace
 from lbw_engine.do.verification import ObjectState, verify
 from lbw_engine.errors import InputError, TaskFailed
+from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.outputs import OutputDir
-from lbw_engine.rules import load_rules
-from lbw_engine.rules.commands import CommandRules
+from lbw_engine.rules import RuleSet, load_rules
 
 HELP = "Instantiate a plan in the scenario's execution workspace, run it with the robot, verify."
 SETTLE_S = 2.0  # seconds the world runs after the last command before measuring
@@ -50,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the command; see the module docstring."""
     from perception.world import scenario as scenario_mod
 
-    rules = load_rules(args.rules).commands
+    rules = load_rules(args.rules)
     plan = planmod.load(args.plan)
     sc = scenario_mod.load(args.scenario)
     with OutputDir(args.out) as out:
@@ -76,7 +75,7 @@ class ExecutionResult:
     views: dict[str, Any] = field(default_factory=dict)  # name -> {"top": img, "side": img}
 
 
-def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
+def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
                  on_step: Callable[[Any], None] | None = None,
                  via: str = VIA[0]) -> ExecutionResult:
     """Instantiate ``plan`` in ``sc.execute``, run it with the robot and verify it.
@@ -92,6 +91,7 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
     from perception.world.render import Renderer
     from perception.world.robot import FINGERTIP, Robot
 
+    rules = ruleset.commands
     if rules.tip != FINGERTIP:
         raise InputError(f"gripper.tip must be the simulated gripper's {FINGERTIP:g} mm",
                          file=rules.file, where="gripper.tip")
@@ -115,7 +115,7 @@ def execute_plan(plan: Plan, sc: Any, rules: CommandRules,
     try:
         matching = match_initial_state(taught, plan_objects(plan), measured)
         report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
-        model = _model(taught, sc.shapes, matching, measured, rules)
+        model = _model(taught, sc.shapes, matching, measured, ruleset)
         fresh = copy.deepcopy(model) if via == "bt" else None
         tr = trace(plan, rules, model)
     except TaskFailed as exc:
@@ -190,7 +190,7 @@ def measure_initial_state(world: Any, sc: Any, images: dict) -> tuple[list[Measu
 
 
 def _model(taught: dict, shapes: dict, matching: Any, measured: list[Measured],
-           rules: CommandRules) -> ExecModel:
+           rules: RuleSet) -> EnvModel:
     """The execution environment model: plan objects at measured places, the rest obstacles."""
     bodies = {}
     for name, i in matching.assigned.items():
@@ -199,7 +199,7 @@ def _model(taught: dict, shapes: dict, matching: Any, measured: list[Measured],
     for k, i in enumerate(matching.unmatched, 1):
         m = measured[i]
         bodies[f"unused-{m.shape}-{k}"] = Body(m.shape, tuple(m.size), tuple(m.position), False)
-    return ExecModel.from_measurements(bodies, rules.support_relations, rules.home)
+    return EnvModel.measured(rules, bodies, rules.commands.home)
 
 
 def _final_state(world: Any, start: dict[str, tuple], measured: list[Measured],

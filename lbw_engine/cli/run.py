@@ -106,7 +106,7 @@ def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30
     from lbw_engine.cli.execute import execute_plan
 
     rules = load_rules(rules_dir)
-    arules, crules = rules.analysis, rules.commands
+    arules = rules.analysis
     clock = time.perf_counter()
     if watcher is None:
         recognizer, _ = watch(scenario, rules, fps=fps)
@@ -129,7 +129,7 @@ def pipeline(scenario: Any, rules_dir: str | Path | None = None, fps: float = 30
     if scenario.execute is not None:
         clock = time.perf_counter()
         plan = planmod.parse(analysis.plan, file="plan.json")
-        result.execution = execute_plan(plan, scenario, crules, on_step=on_step)
+        result.execution = execute_plan(plan, scenario, rules, on_step=on_step)
         result.seconds["execute"] = time.perf_counter() - clock
         if not result.execution.success:
             result.failure = f"execution: {result.execution.message}"

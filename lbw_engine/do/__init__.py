@@ -5,7 +5,7 @@ Pure logic over data, no perception imports (tests/test_boundaries.py):
 * ``plan.load`` / ``plan.parse`` — plan.json for execution;
 * ``commandrules.load_dir`` — rules/commands.yaml (Table IX), validated;
 * ``matching.match_initial_state`` — Sec. VII-A initial-state matching;
-* ``model.ExecModel`` — the execution-phase environment model;
+* ``lbw_engine.model.env.EnvModel`` — the environment model, also execution's expected state;
 * ``tracing.trace`` — walk the plan, find goals, expand commands (Table IX);
 * ``verification.verify`` — the final structure against the expected one.
 

@@ -20,23 +20,23 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from lbw_engine.do.model import ExecModel
+from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import TABLE
 
 
-def unbalanced(model: ExecModel, margin: float) -> str | None:
+def unbalanced(model: EnvModel, margin: float) -> str | None:
     """The first object (by name) that would tip over its supports, if any."""
     for name in sorted(model.bodies):
         rel = model.support_of(name)
-        if rel is None or model.held == name:
+        if rel is None or model.holding() == name:
             continue
-        under = _raised(model, rel[2])
+        under = _raised(model, rel.objects)
         if under and not _over(name, under, model, margin):
             return name
     return None
 
 
-def steadied(model: ExecModel, name: str, xy: tuple[float, float], supports: list[str],
+def steadied(model: EnvModel, name: str, xy: tuple[float, float], supports: list[str],
              margin: float, steady: float) -> tuple[tuple[float, float], float]:
     """Where ``name`` (held, its riders with it) can be put on ``supports`` near ``xy``.
 
@@ -66,28 +66,28 @@ def steadied(model: ExecModel, name: str, xy: tuple[float, float], supports: lis
     return (out[0], out[1]), moved
 
 
-def _raised(model: ExecModel, supports: Sequence[str]) -> list[str]:
+def _raised(model: EnvModel, supports: Sequence[str]) -> list[str]:
     """The supports, when all of them are objects; [] when the table holds any part."""
     under = [s for s in supports if s != TABLE and s in model.bodies]
     return under if under and len(under) == len(supports) else []
 
 
-def _load_centre(model: ExecModel, name: str) -> tuple[float, float]:
+def _load_centre(model: EnvModel, name: str) -> tuple[float, float]:
     """x-y centre of mass of ``name`` and everything riding on it."""
-    load = [name, *model.riders(name)]
+    load = [name, *model.supported_by(name)]
     mass = [_volume(model, n) for n in load]
     total = sum(mass)
     return tuple(sum(m * model.bodies[n].position[k] for m, n in zip(mass, load, strict=True))
                  / total for k in range(2))
 
 
-def _span(model: ExecModel, names: Sequence[str], k: int) -> tuple[float, float]:
+def _span(model: EnvModel, names: Sequence[str], k: int) -> tuple[float, float]:
     """Joint extent of the objects ``names`` along axis ``k``."""
     return (min(model.bodies[s].position[k] - model.bodies[s].size[k] / 2 for s in names),
             max(model.bodies[s].position[k] + model.bodies[s].size[k] / 2 for s in names))
 
 
-def _over(name: str, under: list[str], model: ExecModel, margin: float) -> bool:
+def _over(name: str, under: list[str], model: EnvModel, margin: float) -> bool:
     """Is the load's centre of mass over where ``name`` meets ``under``?"""
     b = model.bodies[name]
     com = _load_centre(model, name)
@@ -99,7 +99,7 @@ def _over(name: str, under: list[str], model: ExecModel, margin: float) -> bool:
     return True
 
 
-def _volume(model: ExecModel, name: str) -> float:
+def _volume(model: EnvModel, name: str) -> float:
     """An object's volume (mm³), its mass up to the common density."""
     s = model.bodies[name].size
     return s[0] * s[1] * s[2]

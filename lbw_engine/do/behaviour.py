@@ -20,10 +20,10 @@ from typing import Any
 import py_trees
 
 from lbw_engine.do.expander import Expander
-from lbw_engine.do.model import ExecModel
 from lbw_engine.do.plan import Plan
 from lbw_engine.do.tracing import Trace, TracedOp, trace_leaf
 from lbw_engine.errors import InputError, TaskFailed
+from lbw_engine.model.env import EnvModel
 from lbw_engine.rules.commands import CommandRules
 
 KINDS = ("sequence", "parallel", "action", "update")
@@ -66,7 +66,7 @@ def _direct(plot: list) -> list[str]:
 class Runner:
     """What the leaves act on: the plan, the execution model and the robot."""
 
-    def __init__(self, plan: Plan, rules: CommandRules, model: ExecModel,
+    def __init__(self, plan: Plan, rules: CommandRules, model: EnvModel,
                  send: Callable[[list], Any]) -> None:
         self.plan, self.rules, self.model, self.send = plan, rules, model, send
         self.expander = Expander(rules, model)
@@ -135,7 +135,7 @@ def _node(node: dict, runner: Runner, file: str, where: str) -> py_trees.behavio
     return _Leaf(name, lambda: runner.leaf(operator, name), runner)
 
 
-def run_tree(plan: Plan, rules: CommandRules, model: ExecModel, send: Callable[[list], Any],
+def run_tree(plan: Plan, rules: CommandRules, model: EnvModel, send: Callable[[list], Any],
              max_ticks: int = 1000) -> tuple[Trace, int]:
     """Build the plan's tree and tick it until it is done; the trace it made and the ticks.
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from lbw_engine.do.model import ExecModel
 from lbw_engine.errors import InputError
+from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import Vec
 from lbw_engine.rules.commands import PRIMITIVES, CommandRules, Expr, Step
 
@@ -55,7 +55,7 @@ class Context:
 class Expander:
     """Expands steps against a model, collecting the emitted commands."""
 
-    def __init__(self, rules: CommandRules, model: ExecModel) -> None:
+    def __init__(self, rules: CommandRules, model: EnvModel) -> None:
         self.rules = rules
         self.model = model
         self.emitted: list[Command] = []

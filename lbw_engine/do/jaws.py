@@ -12,7 +12,7 @@ height; the held object and what rides on it are not obstacles. A gap of
 
 from __future__ import annotations
 
-from lbw_engine.do.model import ExecModel
+from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import Vec, overlap
 from lbw_engine.rules.commands import CommandRules
 
@@ -39,9 +39,9 @@ def jaw_regions(centre: Vec, size: Vec, dy: float, rules: CommandRules) -> list[
 
 
 def blocker(focus: str, centre: Vec, dy: float, rules: CommandRules,
-            model: ExecModel) -> str | None:
+            model: EnvModel) -> str | None:
     """The first object a jaw would hit when gripping ``focus`` at ``centre``, if any."""
-    moving = {focus, *model.riders(focus)}
+    moving = {focus, *model.supported_by(focus)}
     size = model.bodies[focus].size
     grow = 2 * rules.jaw_clearance
     for c, s in jaw_regions(centre, size, dy, rules):
@@ -53,7 +53,7 @@ def blocker(focus: str, centre: Vec, dy: float, rules: CommandRules,
 
 
 def choose_offset(focus: str, centre: Vec, rules: CommandRules,
-                  model: ExecModel) -> tuple[float, str | None]:
+                  model: EnvModel) -> tuple[float, str | None]:
     """The grip offset nearest the centre with free jaws, or (0, what blocks the centre)."""
     size = model.bodies[focus].size
     reach = max(0.0, (size[1 - rules.jaw_axis] - rules.finger[1]) / 2)

@@ -29,9 +29,9 @@ from typing import Any
 from lbw_engine.do import jaws
 from lbw_engine.do.balance import steadied, unbalanced
 from lbw_engine.do.expander import Command, Context, Expander, fvec
-from lbw_engine.do.model import ExecModel
 from lbw_engine.do.plan import Operator, Plan, Relation
 from lbw_engine.errors import InputError, TaskFailed
+from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import TABLE, Vec, overlap, top
 from lbw_engine.rules.commands import CommandRules
 
@@ -58,7 +58,7 @@ class Trace:
     """The traced plan: operations in execution order, and the model at the end."""
 
     ops: list[TracedOp]
-    model: ExecModel
+    model: EnvModel
 
     @property
     def commands(self) -> list[Command]:
@@ -66,7 +66,7 @@ class Trace:
         return [c for op in self.ops for c in op.commands]
 
 
-def trace(plan: Plan, rules: CommandRules, model: ExecModel) -> Trace:
+def trace(plan: Plan, rules: CommandRules, model: EnvModel) -> Trace:
     """Walk the plan depth first, expanding each leaf against the (updated) model."""
     ops: list[TracedOp] = []
     _Walker(plan, rules, model, ops).operator(plan.root)
@@ -76,7 +76,7 @@ def trace(plan: Plan, rules: CommandRules, model: ExecModel) -> Trace:
 class _Walker:
     """Depth-first plan walk; a ``$parallel`` runs its branches in a balanced order."""
 
-    def __init__(self, plan: Plan, rules: CommandRules, model: ExecModel,
+    def __init__(self, plan: Plan, rules: CommandRules, model: EnvModel,
                  ops: list[TracedOp]) -> None:
         """Walk ``plan`` against ``model``, appending traced leaves to ``ops``."""
         self.plan, self.rules, self.model, self.ops = plan, rules, model, ops
@@ -124,13 +124,13 @@ class _Walker:
         return 0
 
 
-def trace_leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
+def trace_leaf(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
                op: Operator, leaf: str) -> TracedOp:
     """One leaf's goal and commands against the model as it is now (a behaviour tree's leaf)."""
     return _leaf(plan, rules, model, expander, op, leaf)
 
 
-def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
+def _leaf(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
           op: Operator, leaf: str) -> TracedOp:
     """Find one leaf's goal and expand its steps."""
     operation = rules.operation_of(plan.leaf_operations[leaf])
@@ -164,12 +164,12 @@ def _leaf(plan: Plan, rules: CommandRules, model: ExecModel, expander: Expander,
 
 
 def _grip_point(focus: str, goal: Vec, check: bool, rules: CommandRules,
-                model: ExecModel) -> Vec:
+                model: EnvModel) -> Vec:
     """Where the arm's tool point goes for an object goal: the grip centre (jaws.py).
 
     Before a grasp the grip offset is chosen; while the object is held it is kept.
     """
-    if model.held == focus:
+    if model.holding() == focus:
         dy = model.grip_offsets.get(focus, 0.0)
         hit = jaws.blocker(focus, goal, dy, rules, model)
     else:
@@ -184,7 +184,7 @@ def _grip_point(focus: str, goal: Vec, check: bool, rules: CommandRules,
         model.bodies[focus].size))
 
 
-def focus_object(op: Operator, rules: CommandRules, model: ExecModel) -> str | None:
+def focus_object(op: Operator, rules: CommandRules, model: EnvModel) -> str | None:
     """The object an operator moves or touches (commands.yaml ``focus``)."""
     for rels in (op.sc_plus, op.sc_minus):
         for r in rels:
@@ -198,7 +198,7 @@ def focus_object(op: Operator, rules: CommandRules, model: ExecModel) -> str | N
 
 
 def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
-          model: ExecModel, file: str, where: str) -> tuple[Vec | None, float]:
+          model: EnvModel, file: str, where: str) -> tuple[Vec | None, float]:
     """A goal from one source (commands.yaml ``goal``), or None if it does not apply,
     and how far a placement was moved so that its load stands."""
     if focus is None:
@@ -212,13 +212,13 @@ def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
     return _placement(rel, focus, rules, model, file, where)
 
 
-def placement_goal(rel: Relation, focus: str, rules: CommandRules, model: ExecModel,
+def placement_goal(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
                    file: str = "<plan>", where: str = "") -> Vec:
     """Where ``focus`` goes for a taught support relation, in the current model."""
     return _placement(rel, focus, rules, model, file, where)[0]
 
 
-def _placement(rel: Relation, focus: str, rules: CommandRules, model: ExecModel,
+def _placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
                file: str, where: str) -> tuple[Vec, float]:
     """placement_goal, and how far the taught spot was moved so the load stands."""
     for s in [*rel.objects, *([rel.wrt] if rel.wrt else [])]:
@@ -249,9 +249,9 @@ def _placement(rel: Relation, focus: str, rules: CommandRules, model: ExecModel,
     return goal, moved
 
 
-def _check_free(goal: Vec, focus: str, model: ExecModel) -> None:
+def _check_free(goal: Vec, focus: str, model: EnvModel) -> None:
     """A goal spot taken by another object makes the task impossible (exit 1)."""
-    moving = {focus, *model.riders(focus)}
+    moving = {focus, *model.supported_by(focus)}
     size = model.bodies[focus].size
     for name, b in model.bodies.items():
         if name in moving:

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from lbw_engine.model.geometry import Vec, support_relations
+from lbw_engine.model.geometry import Vec, support_relations, tilted
 
 POSITION_TOLERANCE_MM = 5.0
 TOPPLE_RAD = 0.2  # ~11°: a block tilted more than this has fallen over
@@ -56,7 +56,7 @@ def verify(
     possible supports, so a block resting on a stray object is a mismatch.
     """
     names = sorted(expected_positions)
-    boxes = {n: (s.position, s.size) for n, s in measured.items()}
+    boxes = {n: tilted(s.position, s.size, s.angle) for n, s in measured.items()}
     supports = support_relations(boxes, support_types[0], support_types[-1])
     mismatches: list[dict] = []
     relations: list[list] = []

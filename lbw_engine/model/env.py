@@ -4,7 +4,8 @@ Nodes are of the ENV classes of Fig. 8: one World, one HandLoc (``hand``),
 one Table (``table``) and one Loc per object. Relations are
 (type, subject, object[, at, wrt]) records; ``at`` is the subject's position
 relative to the ``wrt`` node (Fig. 14, Fig. 21). Operation effects come from
-rules/effects.yaml as relation templates (``apply_effect``).
+rules/effects.yaml as relation templates (``lbw_engine.model.effects``). Execution
+traces its expected state in the same model (Sec. VII-A).
 """
 
 from __future__ import annotations
@@ -13,11 +14,10 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from lbw_engine.rules import EffectRule, RuleSet, Template
-from lbw_engine.see.detectors import Detection, Vec3
+from lbw_engine.model.geometry import Box, Vec, resting_on
+from lbw_engine.names import HAND, TABLE, WORLD
+from lbw_engine.rules import RuleSet
 
-WORLD, HAND, TABLE = "world", "hand", "table"
-SUPPORT_OVERLAP_MM = 3.0  # a placed block rests on what is under it by more than this
 TABLE_SIZE: Vec3 = (600.0, 400.0, 0.0)  # design.md workspace; the top face is z = 0
 
 
@@ -30,6 +30,7 @@ class EnvNode:
     position: Vec3 | None = None
     size: Vec3 | None = None
     shape: str | None = None
+    relevant: bool = True  # execution: False for measured objects the plan does not use
 
     def top(self) -> float:
         """Height of the node's top face (mm)."""
@@ -47,6 +48,11 @@ class Relation:
     obj: str | tuple[str, ...]
     at: Vec3 | None = None
     wrt: str | None = None
+
+    @property
+    def objects(self) -> tuple[str, ...]:
+        """The relation's object(s) as a tuple."""
+        return self.obj if isinstance(self.obj, tuple) else (self.obj,)
 
     def to_json(self) -> list[Any]:
         """The actions.json form: [type, subject, object] or with {"at", "wrt"}."""
@@ -78,12 +84,32 @@ class State:
         }
 
 
+Vec3 = Vec
+
+
+def _vec(p: Iterable[float]) -> Vec3:
+    """A plain float triple."""
+    x, y, z = (float(c) for c in p)
+    return (x, y, z)
+
+
 def _sub(a: Vec3, b: Vec3) -> Vec3:
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
 
 def _add(a: Vec3, b: Vec3) -> Vec3:
     return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+@dataclass(frozen=True)
+class Body:
+    """A measured object for an execution model: shape, size, centre (mm), whether the
+    plan uses it."""
+
+    shape: str
+    size: Vec3
+    position: Vec3
+    relevant: bool = True
 
 
 @dataclass
@@ -94,6 +120,7 @@ class EnvModel:
     nodes: dict[str, EnvNode] = field(default_factory=dict)
     relations: list[Relation] = field(default_factory=list)
     followers: dict[str, Vec3] = field(default_factory=dict)  # name -> offset from the hand
+    grip_offsets: dict[str, float] = field(default_factory=dict)  # execution: see do/jaws.py
 
     def __post_init__(self) -> None:
         region = tuple(float(v) for v in self.rules.constants["attention-region"])
@@ -131,12 +158,32 @@ class EnvModel:
                 out.append(node)
         return out
 
+    def holding(self) -> str | None:
+        """The one object the hand holds, if any."""
+        held = self.held()
+        return held[0] if held else None
+
+    @property
+    def hand(self) -> Vec3:
+        """Where the hand is."""
+        return self.nodes[HAND].position or (0.0, 0.0, 0.0)
+
+    @property
+    def bodies(self) -> dict[str, EnvNode]:
+        """The objects by name (execution's view of the Loc nodes)."""
+        return {n.name: n for n in self.objects()}
+
+    def support_of(self, name: str) -> Relation | None:
+        """The support relation of ``name`` (an object rests on one thing or several)."""
+        return next((r for r in self.relations
+                     if r.subject == name and r.type in self.rules.support_relations), None)
+
     def supports_of(self, name: str) -> list[str]:
         """What ``name`` rests on, by the support relations of the rules."""
         out: list[str] = []
         for r in self.relations:
             if r.type in self.rules.support_relations and r.subject == name:
-                out.extend(r.obj if isinstance(r.obj, tuple) else (r.obj,))
+                out.extend(r.objects)
         return out
 
     def supported_by(self, name: str) -> list[str]:
@@ -155,17 +202,11 @@ class EnvModel:
         return out
 
     # --- updates from detections ----------------------------------------------
-    def absorb(self, detection: Detection) -> None:
-        """Register located objects and measured positions from a detection."""
-        for name, info in detection.objects.items():
-            size = tuple(float(v) for v in info.size)
-            pos = tuple(float(v) for v in info.position)
-            self.nodes[name] = EnvNode(name, "Loc", pos, size, info.shape)
-        if detection.objects:
-            self.initial_relations()
-        for name, pos in detection.positions.items():
-            if name in self.nodes:
-                self.move_node(name, tuple(float(v) for v in pos))
+    def locate(self, objects: Iterable[tuple[str, str, Vec3, Vec3]]) -> None:
+        """Register located objects (name, shape, size, centre) and what each rests on."""
+        for name, shape, size, pos in objects:
+            self.nodes[name] = EnvNode(name, "Loc", _vec(pos), _vec(size), shape)
+        self.initial_relations()
 
     def move_node(self, name: str, pos: Vec3) -> None:
         """Set a node's position; objects following the hand come along."""
@@ -174,36 +215,36 @@ class EnvModel:
             for follower, offset in self.followers.items():
                 self.nodes[follower].position = _add(pos, offset)
 
+    def follow(self, objects: Iterable[str]) -> None:
+        """The objects, and what rests on them, move with the hand from now on (Fig. 8)."""
+        hand = self.nodes[HAND].position
+        for name in objects:
+            for moving in (name, *self.supported_by(name)):
+                pos = self.nodes[moving].position
+                if hand is not None and pos is not None:
+                    self.followers[moving] = _sub(pos, hand)
+
+    def boxes(self, names: Iterable[str] | None = None) -> dict[str, Box]:
+        """(centre, size) of the located objects (or of ``names``) that have both."""
+        nodes = self.objects() if names is None else self.get(names)
+        return {n.name: (n.position, n.size) for n in nodes
+                if n.position is not None and n.size is not None}
+
     def initial_relations(self) -> None:
-        """Each located object rests on what is just below it, else on the table.
-
-        The relation is the first support relation of the rules; support is read
-        from the measured boxes: a top face within 10 mm of the object's bottom
-        face, overlapping it seen from above.
-        """
-        support = self.rules.support_relations[0]
+        """Each located object rests on what geometry says is under it (geometry.resting_on),
+        else on the table: the support relations of the rules' roles, with :at :wrt."""
+        boxes = self.boxes()
         for node in self.objects():
-            if any(r.subject == node.name for r in self.relations) or node.position is None:
+            if any(r.subject == node.name for r in self.relations) or node.name not in boxes:
                 continue
-            below = self._resting_on(node)
-            wrt = self.nodes[below]
+            below = resting_on(node.name, boxes) or [TABLE]
+            if len(below) == 1:
+                rtype, obj, ref = self.rules.roles.single, below[0], below[0]
+            else:
+                rtype, obj, ref = self.rules.roles.multiple, tuple(below), TABLE
+            wrt = self.nodes[ref]
             at = _sub(node.position, wrt.position) if wrt.position else node.position
-            self.relations.append(Relation(support, node.name, below, at, below))
-
-    def _resting_on(self, node: EnvNode) -> str:
-        """The object whose top face carries ``node``, or the table."""
-        bottom = node.position[2] - (node.size[2] if node.size else 0.0) / 2.0
-        best, gap = TABLE, 10.0
-        for other in self.objects():
-            if other is node or other.position is None or other.size is None:
-                continue
-            overlap = all(
-                abs(node.position[i] - other.position[i]) < (node.size[i] + other.size[i]) / 2.0
-                for i in range(2)
-            )
-            if overlap and abs(other.top() - bottom) <= gap:
-                best, gap = other.name, abs(other.top() - bottom)
-        return best
+            self.relations.append(Relation(rtype, node.name, obj, at, ref))
 
     # --- snapshots ---------------------------------------------------------------
     def copied(self, names: Iterable[str]) -> list[str]:
@@ -226,138 +267,102 @@ class EnvModel:
         positions = {n: self.nodes[n].position for n in names if self.nodes[n].position}
         return State(rels, positions)
 
-    # --- operation effects (Sec. V-B4) ------------------------------------------
-    def apply_effect(
-        self, rule: EffectRule, binds: dict[str, tuple[str, ...]], measured: dict[str, Any]
-    ) -> None:
-        """Apply one operation's effect: remove, move, then add relations."""
-        for tpl in rule.remove:
-            self.relations = [r for r in self.relations if not self._matches(r, tpl, binds)]
-        if "follow" in rule.move:
-            self._follow(binds[rule.move["follow"][1:]], binds[rule.move["object"][1:]])
-        if "place" in rule.move:
-            point = measured.get(rule.move["measured"])
-            on = rule.move["on"][1:]
-            binds = {**binds, on: self._place(binds[rule.move["place"][1:]], binds[on], point)}
-        for tpl in rule.add:
-            if tpl.when is not None:
-                count = len(binds[tpl.when[1][1:]])
-                if (tpl.when[0] == "single") != (count == 1):
-                    continue
-            self.relations.extend(self._instances(tpl, binds))
+    # --- execution: the expected state while a plan is traced (Sec. VII-A) ------
+    def __deepcopy__(self, memo: dict) -> EnvModel:
+        """A copy to try things on (the rules are shared, not copied)."""
+        env = EnvModel(self.rules, {n: replace(v) for n, v in self.nodes.items()},
+                       list(self.relations), dict(self.followers), dict(self.grip_offsets))
+        memo[id(self)] = env
+        return env
 
-    def _names(self, text: str, binds: dict[str, tuple[str, ...]]) -> tuple[str, ...] | None:
-        """Names a template term stands for; None for the wildcard."""
-        if text == "*":
-            return None
-        return binds[text[1:].rstrip("*")]
+    @classmethod
+    def measured(cls, rules: RuleSet, bodies: dict[str, Body], hand: Vec3) -> EnvModel:
+        """A model of measured objects whose support relations are read from the geometry."""
+        env = cls(rules)
+        env.nodes[HAND].position = _vec(hand)
+        for name, node in bodies.items():
+            env.nodes[name] = EnvNode(name, "Loc", _vec(node.position), _vec(node.size),
+                                      node.shape, node.relevant)
+        env.initial_relations()
+        return env
 
-    def _matches(self, r: Relation, tpl: Template, binds) -> bool:
-        if r.type != tpl.type:
-            return False
-        subj = self._names(tpl.subject, binds)
-        if subj is not None and r.subject not in subj:
-            return False
-        obj = self._names(tpl.object, binds)
-        if obj is None:
-            return True
-        return (r.obj in obj) if isinstance(r.obj, str) else set(r.obj) == set(obj)
+    def move_hand(self, p: Vec3) -> None:
+        """The hand goes to ``p``; a held object and its riders come along."""
+        self.move_node(HAND, _vec(p))
 
-    def _instances(self, tpl: Template, binds) -> list[Relation]:
-        subjects = self._names(tpl.subject, binds) or ()
-        if not tpl.subject.endswith("*"):
-            subjects = subjects[:1]
-        objs = self._names(tpl.object, binds) or ()
-        if not objs:
-            return []
-        obj: str | tuple[str, ...] = objs[0] if len(objs) == 1 else tuple(objs)
-        out = []
-        for subject in subjects:
-            at = wrt = None
-            if tpl.wrt is not None:
-                ref = self._names(tpl.wrt, binds) or ()
-                if len(ref) == 1:
-                    wrt = ref[0]
-                    p, q = self.nodes[subject].position, self.nodes[wrt].position
-                    at = _sub(p, q) if p is not None and q is not None else None
-            out.append(Relation(tpl.type, subject, obj, at, wrt if at is not None else None))
-        return out
+    def grasp(self, above: float = 15.0) -> str | None:
+        """Close the hand: it holds the object between its jaws (and its riders follow).
 
-    def _follow(self, hands: tuple[str, ...], objects: tuple[str, ...]) -> None:
-        """The objects (and what rests on them) move with the hand from now on."""
-        hand = self.nodes[hands[0]] if hands else None
-        for name in objects:
-            for moving in (name, *self.supported_by(name)):
-                pos = self.nodes[moving].position
-                if hand is not None and hand.position is not None and pos is not None:
-                    self.followers[moving] = _sub(pos, hand.position)
-
-    def _clear_of_neighbours(self, node: EnvNode, at: Vec3, ignore: set[str]) -> Vec3:
-        """``at`` moved out of any block it overlaps sideways by a measurement error."""
-        if node.size is None:
-            return at
-        clearance = float(self.rules.constants["place-clearance"])
-        limit = float(self.rules.constants["place-overlap-limit"])
-        pos = list(at)
-        for other in self.nodes.values():
-            if other.name in ignore or other.name == node.name or other.kind != node.kind:
-                continue
-            if other.position is None or other.size is None or other.name in self.followers:
-                continue
-            pen = [(node.size[i] + other.size[i]) / 2 - abs(pos[i] - other.position[i])
-                   for i in range(3)]
-            if min(pen) <= 0:
-                continue  # apart along some axis
-            axis = 0 if pen[0] <= pen[1] else 1
-            if pen[axis] > limit:
-                continue  # not a measurement error: leave it for the physics to show
-            away = 1.0 if pos[axis] >= other.position[axis] else -1.0
-            pos[axis] += away * (pen[axis] + clearance)
-        return (pos[0], pos[1], pos[2])
-
-    def _place(self, objects, supports, point: Vec3 | None) -> tuple[str, ...]:
-        """Put the object at the measured point, its height from the supports' tops.
-
-        Returns the supports it rests on there: the objects whose top face carries its
-        bottom face under its footprint where it was let go (Sec. V-B4). The ones found
-        on the way down (the hand still beside the spot) may be fewer or others.
+        That is an object whose footprint holds the hand's x-y and whose height
+        range, extended ``above`` mm upward (the fingers hang below the grip
+        centre), holds the hand's z; the closest centre wins.
         """
-        tops = [self.nodes[s].top() for s in supports if s in self.nodes]
-        for name in objects:
-            node = self.nodes[name]
-            riders = [r for r in self.followers if r != name]
-            for moving in (name, *riders):
-                self.followers.pop(moving, None)
-            old = node.position or (0.0, 0.0, 0.0)
-            x, y = (point[0], point[1]) if point is not None else (old[0], old[1])
-            height = node.size[2] if node.size else 0.0
-            z = (max(tops) if tops else 0.0) + height / 2.0
-            node.position = self._clear_of_neighbours(node, (float(x), float(y), float(z)),
-                                                      set(supports) | set(riders))
-            delta = _sub(node.position, old)
-            for rider in riders:
-                p = self.nodes[rider].position
-                if p is not None:
-                    self.nodes[rider].position = _add(p, delta)
-            if tops and all(self.nodes[s].kind == node.kind for s in supports if s in self.nodes):
-                below = self._carrying(node, set(riders))
-                if below:
-                    supports = tuple(below)
-        return tuple(supports)
+        hx, hy, hz = self.hand
+        best, best_d = None, float("inf")
+        for node in self.objects():
+            (x, y, z), (sx, sy, sz) = node.position, node.size
+            if abs(hx - x) <= sx / 2 and abs(hy - y) <= sy / 2 and \
+                    z - sz / 2 <= hz <= z + sz / 2 + above and abs(hz - z) < best_d:
+                best, best_d = node.name, abs(hz - z)
+        if best is not None:
+            self.hold(best)
+        return best
 
-    def _carrying(self, node: EnvNode, riders: set[str]) -> list[str]:
-        """Objects whose top face is at ``node``'s bottom (within 10 mm, as for located
-        objects) and under its footprint by more than the support overlap."""
-        if node.position is None or node.size is None:
-            return []
-        bottom = node.position[2] - node.size[2] / 2.0
-        out = []
-        for other in self.objects():
-            if other is node or other.name in riders or other.position is None:
-                continue
-            if other.size is None or abs(other.top() - bottom) > 10.0:
-                continue
-            if all((node.size[i] + other.size[i]) / 2.0 - abs(node.position[i] - other.position[i])
-                   > SUPPORT_OVERLAP_MM for i in range(2)):
-                out.append(other.name)
+    def hold(self, name: str) -> None:
+        """The hand holds ``name``; it and what rests on it follow the hand."""
+        self.relations.append(Relation(self.rules.hold_relation, HAND, name))
+        self.follow([name])
+
+    def release(self) -> None:
+        """Open the hand: nothing is held, nothing follows it."""
+        self.relations = [r for r in self.relations
+                          if not (r.type == self.rules.hold_relation and r.subject == HAND)]
+        self.followers.clear()
+
+    def apply(self, sc_minus: Iterable[Any], sc_plus: Iterable[Any]) -> None:
+        """A plan operator's relation changes (plan relations: type, subject, objects):
+        SC⁻ removed, SC⁺ added; a new support relation replaces the old one (Sec. VII-A 2c)."""
+        for r in sc_minus:
+            self.relations = [x for x in self.relations if not (
+                x.type == r.type and x.subject == r.subject and set(x.objects) == set(r.objects))]
+        for r in sc_plus:
+            if r.type in self.rules.support_relations:
+                self.relations = [x for x in self.relations if not (
+                    x.subject == r.subject and x.type in self.rules.support_relations)]
+            obj = tuple(sorted(r.objects)) if len(r.objects) > 1 else r.objects[0]
+            self.relations.append(Relation(r.type, r.subject, obj))
+
+    def final_supports(self, names: Iterable[str]) -> dict[str, tuple[str, tuple[str, ...]]]:
+        """Expected support relation of each named object (among these and the table)."""
+        keep = set(names) | {TABLE}
+        out = {}
+        for n in names:
+            rel = self.support_of(n)
+            if rel is not None and set(rel.objects) <= keep:
+                out[n] = (rel.type, tuple(sorted(rel.objects)))
         return out
+
+    def settled(self, names: Iterable[str]) -> dict[str, Vec3]:
+        """Expected resting centres: x, y as traced, z from the tops of the supports.
+
+        A placed object is released a little above its support; after settling
+        it rests on it, which is what verification measures.
+        """
+        memo: dict[str, float] = {}
+        bodies = self.bodies
+
+        def centre_z(name: str, depth: int) -> float:
+            if name not in memo:
+                b = bodies[name]
+                rel = self.support_of(name)
+                under = [s for s in rel.objects if s == TABLE or s in bodies] if rel else []
+                if not under or depth > len(bodies):
+                    memo[name] = b.position[2]
+                else:
+                    tops = [0.0 if s == TABLE else
+                            centre_z(s, depth + 1) + bodies[s].size[2] / 2 for s in under]
+                    memo[name] = max(tops) + b.size[2] / 2
+            return memo[name]
+
+        return {n: (bodies[n].position[0], bodies[n].position[1], centre_z(n, 0))
+                for n in names}

@@ -6,7 +6,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from lbw_engine.model.env import HAND, TABLE, WORLD, EnvModel, State
+from lbw_engine.model.env import EnvModel, State
+from lbw_engine.names import HAND, TABLE, WORLD
 from lbw_engine.rules import Binding, RuleSet
 from lbw_engine.see.detectors import ActView, Detection
 

@@ -14,7 +14,9 @@ from collections import Counter
 from collections.abc import Iterable
 from typing import Any
 
-from lbw_engine.model.env import WORLD, EnvModel
+from lbw_engine.model.effects import apply_effect
+from lbw_engine.model.env import EnvModel
+from lbw_engine.names import WORLD
 from lbw_engine.rules import RedirectionRow, RuleSet, TransitionRow
 from lbw_engine.see import actmodel
 from lbw_engine.see.actmodel import ActNode
@@ -96,8 +98,18 @@ class Recognizer:
         if found.objects:
             for name, info in found.objects.items():
                 self.initial_objects[name] = {"shape": info.shape, "position": list(info.position)}
-        self.env.absorb(found)
+        self._absorb(found)
         return found
+
+    def _absorb(self, found: Detection) -> None:
+        """Put what a detection measured into the environment model (located objects,
+        positions of named nodes such as the hand)."""
+        if found.objects:
+            self.env.locate((name, info.shape, info.size, info.position)
+                            for name, info in found.objects.items())
+        for name, pos in found.positions.items():
+            if name in self.env.nodes:
+                self.env.move_node(name, tuple(float(v) for v in pos))
 
     # --- analyze ----------------------------------------------------------------
     def _analyze(self) -> None:
@@ -266,7 +278,7 @@ class Recognizer:
         node.operation = actmodel.classify(self.rules, node.motion, node.features)
         if node.operation in self.rules.effects:
             binds = actmodel.effect_bindings(self.rules, node, self.env)
-            self.env.apply_effect(self.rules.effects[node.operation], binds, node.measured)
+            apply_effect(self.env, self.rules.effects[node.operation], binds, node.measured)
         node.final_state = self.env.snapshot(node.nodes())
         if node.initial_state is not None:
             node.initial_state = node.initial_state.restricted(self.env.copied(node.nodes()))

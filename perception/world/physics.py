@@ -18,6 +18,7 @@ from collections.abc import Iterable
 
 import pymunk
 
+from lbw_engine.model.geometry import resting_on
 from lbw_engine.rules import Roles
 from perception.world.hand import TIP, Gripper
 from perception.world.layout import TABLE_X, Layout
@@ -26,7 +27,6 @@ from perception.world.scene import Box
 GRAVITY = 9810.0  # mm/s^2
 DENSITY = 0.001  # g/mm^3 (wood-like); masses in g
 FRICTION = 0.7
-SUPPORT_TOL = 2.0  # mm: a block whose bottom is this close to a top rests on it
 
 SLOP = 0.1  # mm: pymunk's resting penetration (Space.collision_slop)
 
@@ -226,29 +226,19 @@ class World:
         return {n: self.shapes[n].body.angle for n in self.names}
 
     def supports(self) -> dict[str, tuple[str, ...]]:
-        """What each block rests on, from geometry: ("table",), supports, or () (held/falling)."""
+        """What each block rests on, from geometry: ("table",), supports, or () (held/falling).
+
+        The one definition of lbw_engine.model.geometry, on each block's bounding box
+        (a tilted block's box is its shape's x-z bounds and its y-extent).
+        """
         held = {g.holding for g in self.grippers}
-        boxes = {n: self.shapes[n].bb for n in self.names}
-        out: dict[str, tuple[str, ...]] = {}
-        for name, bb in boxes.items():
-            if name in held:
-                out[name] = ()
-                continue
-            y0, y1 = self.y[name] - self.sizes[name][1] / 2, self.y[name] + self.sizes[name][1] / 2
-            if bb.bottom <= SUPPORT_TOL:
-                out[name] = ("table",)
-                continue
-            sup = []
-            for other, ob in boxes.items():
-                if other == name or abs(bb.bottom - ob.top) > SUPPORT_TOL:
-                    continue
-                oy0 = self.y[other] - self.sizes[other][1] / 2
-                oy1 = oy0 + self.sizes[other][1]
-                if min(bb.right, ob.right) - max(bb.left, ob.left) > 0.5 and \
-                        min(y1, oy1) - max(y0, oy0) > 0.5:
-                    sup.append(other)
-            out[name] = tuple(sorted(sup))
-        return out
+        boxes = {}
+        for name in self.names:
+            bb = self.shapes[name].bb
+            boxes[name] = (((bb.left + bb.right) / 2, self.y[name], (bb.bottom + bb.top) / 2),
+                           (bb.right - bb.left, self.sizes[name][1], bb.top - bb.bottom))
+        return {name: () if name in held else tuple(resting_on(name, boxes))
+                for name in self.names}
 
     def relations(self, roles: Roles) -> list[list]:
         """Support and holding relations in the actions.json form (ground truth)."""

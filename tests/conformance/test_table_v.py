@@ -8,7 +8,7 @@ import pytest
 from lbw_engine.model.env import EnvModel, Relation
 from lbw_engine.rules import load_rules
 from lbw_engine.see.actmodel import ActNode, classify, compute_features
-from lbw_engine.see.detectors import Detection, ObjectInfo
+from lbw_engine.see.detectors import Detection
 
 RULES = load_rules()
 
@@ -20,7 +20,7 @@ def answer(detector: str, value: str):
 
 def env_with(holding: bool) -> EnvModel:
     env = EnvModel(RULES)
-    env.absorb(Detection(objects={"b1": ObjectInfo("brick", (30, 30, 50), (0, 200, 25))}))
+    env.locate([("b1", "brick", (30, 30, 50), (0, 200, 25))])
     if holding:
         env.relations.append(Relation(RULES.hold_relation, "hand", "b1"))
     return env

@@ -4,6 +4,7 @@ as Sec. V-B4 corrects the vertical position from the support's size."""
 
 import pytest
 
+from lbw_engine.model.effects import _clear_of_neighbours
 from lbw_engine.model.env import EnvModel, EnvNode
 from lbw_engine.rules import load_rules
 
@@ -31,7 +32,7 @@ def test_clear_of_neighbours(rules, measured, expected):
     env.nodes["block1"] = EnvNode("block1", "Loc", NEIGHBOUR, SIZE, "block")
     placed = EnvNode("block2", "Loc", None, SIZE, "block")
     env.nodes["block2"] = placed
-    got = env._clear_of_neighbours(placed, measured, set())
+    got = _clear_of_neighbours(env, placed, measured, set())
     assert got == pytest.approx(expected)
 
 
@@ -40,4 +41,4 @@ def test_supports_are_not_pushed_against(rules):
     env.nodes["base"] = EnvNode("base", "Loc", (0.0, 200.0, 25.0), SIZE, "block")
     placed = EnvNode("top", "Loc", None, SIZE, "block")
     env.nodes["top"] = placed
-    assert env._clear_of_neighbours(placed, (0.0, 200.0, 30.0), {"base"}) == (0.0, 200.0, 30.0)
+    assert _clear_of_neighbours(env, placed, (0.0, 200.0, 30.0), {"base"}) == (0.0, 200.0, 30.0)

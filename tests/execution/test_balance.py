@@ -13,21 +13,20 @@ import pytest
 from lbw_engine.cli.execute import execute_plan
 from lbw_engine.do import plan as planmod
 from lbw_engine.do.balance import unbalanced
-from lbw_engine.do.model import Body, ExecModel
+from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.rules import load_rules
 from perception.world.scenario import load
 
 DATA = Path(__file__).resolve().parent / "data"
-SUPPORTS = ("on", "on-multiple")
 
 
-def _arch(cubes: dict[str, float]) -> ExecModel:
+def _arch(cubes: dict[str, float]) -> EnvModel:
     """A plank on a 50 mm pillar, its centre 14 mm off the pillar's, cubes at plank x."""
     bodies = {"pillar": Body("block", (50, 50, 50), (0, 0, 25)),
               "plank": Body("plank", (160, 60, 20), (14, 0, 60))}
     for name, x in cubes.items():
         bodies[name] = Body("cube", (40, 40, 40), (14 + x, 0, 90))
-    return ExecModel.from_measurements(bodies, SUPPORTS, (0, 200, 200))
+    return EnvModel.measured(load_rules(), bodies, (0, 200, 200))
 
 
 @pytest.mark.parametrize(("cubes", "tips"), [
@@ -42,7 +41,7 @@ def test_unbalanced(cubes, tips):
 
 
 def test_seed_1048_learned_plan_executes_and_verifies():
-    rules = load_rules().commands
+    rules = load_rules()
     plan = planmod.load(DATA / "gen-1048-nominal.plan.json")
     result = execute_plan(plan, load(DATA / "gen-1048-nominal.yaml"), rules)
     assert result.success, result.message

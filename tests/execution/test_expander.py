@@ -10,13 +10,14 @@ from pathlib import Path
 import pytest
 
 from lbw_engine.do.expander import Context, Expander
-from lbw_engine.do.model import Body, ExecModel
 from lbw_engine.errors import InputError
+from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.paths import default_rules_dir
 from lbw_engine.rules import load_rules
 from lbw_engine.rules.commands import Step
 
-RULES = load_rules().commands
+RULESET = load_rules()
+RULES = RULESET.commands
 A = RULES.approach_height
 P1 = (40.0, 120.0, 25.0)  # a brick's centre on the table
 P2 = (-60.0, 200.0, 80.0)
@@ -25,8 +26,9 @@ W = 30.0 + RULES.margin
 
 
 def _model(hand, held=None):
-    model = ExecModel({"b": Body("brick", (30.0, 30.0, 50.0), P1)}, RULES.support_relations, hand)
-    model.held = held
+    model = EnvModel.measured(RULESET, {"b": Body("brick", (30.0, 30.0, 50.0), P1)}, hand)
+    if held is not None:
+        model.hold(held)
     return model
 
 
@@ -66,7 +68,7 @@ def test_table_ix_row(macro, args, want):
 
 def test_pick_grasps_and_lifts_in_the_model():
     _, model = _run("PICK", ("p1",))
-    assert model.held == "b"
+    assert model.holding() == "b"
     assert model.bodies["b"].position == pytest.approx((P1[0], P1[1], A))
 
 

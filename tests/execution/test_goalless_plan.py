@@ -24,8 +24,7 @@ def _goalless(tmp_path: Path) -> Path:
 
 def test_missing_goal_fails_the_task(tmp_path):
     plan = planmod.load(_goalless(tmp_path))
-    result = execute_plan(plan, load(bundled_scenario("build-table")),
-                          load_rules().commands)
+    result = execute_plan(plan, load(bundled_scenario("build-table")), load_rules())
     assert not result.success
     assert "none of its goal sources" in result.message
     assert result.report["stage"] == "instantiation"

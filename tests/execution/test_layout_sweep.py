@@ -31,7 +31,7 @@ def test_plan_verifies_in_a_random_layout(name, seed):
     assert {v["shape"] for v in layout.values()} == shapes
     sc = with_layout(bundled_scenario(name), layout, seed)
     plan = planmod.load(ROOT / "tests" / "data" / f"{name}.plan.json")
-    result = execute_plan(plan, sc, load_rules().commands)
+    result = execute_plan(plan, sc, load_rules())
     assert result.success, result.message
     assert result.report["mismatches"] == []
 

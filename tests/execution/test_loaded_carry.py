@@ -17,24 +17,24 @@ import pytest
 from lbw_engine.cli.execute import execute_plan
 from lbw_engine.do import plan as planmod
 from lbw_engine.do.balance import steadied, unbalanced
-from lbw_engine.do.model import Body, ExecModel
 from lbw_engine.do.tracing import format_commands
+from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.rules import load_rules
 from perception.world.scenario import load
 
 DATA = Path(__file__).resolve().parent / "data"
-SUPPORTS = ("on", "on-multiple")
-RULES = load_rules().commands
+RULESET = load_rules()
+RULES = RULESET.commands
 
 
-def _held_plank(riders: dict[str, float]) -> ExecModel:
+def _held_plank(riders: dict[str, float]) -> EnvModel:
     """A pillar at x = 0, and a plank held above it with cubes at these plank x."""
     bodies = {"pillar": Body("block", (50, 50, 50), (0, 0, 25)),
               "plank": Body("plank", (160, 60, 20), (300, 0, 190))}
     for name, x in riders.items():
         bodies[name] = Body("cube", (40, 40, 40), (300 + x, 0, 220))
-    model = ExecModel.from_measurements(bodies, SUPPORTS, (300, 0, 200))
-    model.held = "plank"
+    model = EnvModel.measured(RULESET, bodies, (300, 0, 200))
+    model.hold("plank")
     return model
 
 
@@ -61,7 +61,7 @@ def test_placements_on_the_table_are_never_moved():
 @pytest.mark.parametrize("case", ["gen-1073-2x", "gen-1086-4x"])
 def test_learned_loaded_plank_is_put_where_it_stands(case):
     plan = planmod.load(DATA / f"{case}.plan.json")
-    result = execute_plan(plan, load(DATA / f"{case}.yaml"), RULES)
+    result = execute_plan(plan, load(DATA / f"{case}.yaml"), RULESET)
     assert result.success, result.message
     plank = next(n for n in result.trace.model.bodies if n.endswith("-plank"))
     put = [op for op in result.trace.ops if op.focus == plank and op.steadied > 0]

@@ -5,13 +5,14 @@ from pathlib import Path
 import pytest
 
 from lbw_engine.do import plan as planmod
-from lbw_engine.do.model import Body, ExecModel
 from lbw_engine.do.tracing import format_commands, trace
 from lbw_engine.errors import InputError, TaskFailed
+from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.rules import load_rules
 
 DATA = Path(__file__).resolve().parent.parent / "data"
-RULES = load_rules().commands
+RULESET = load_rules()
+RULES = RULESET.commands
 SIZES = {"short-brick": (40.0, 40.0, 50.0), "planar-brick": (160.0, 60.0, 20.0),
          "medium-brick": (30.0, 30.0, 60.0), "brick": (30.0, 30.0, 50.0),
          "plate": (120.0, 100.0, 10.0), "cube": (40.0, 40.0, 40.0)}
@@ -26,7 +27,7 @@ def model_of(objects, extra=()):
     for k, (shape, x, y) in enumerate(extra):
         s = SIZES[shape]
         bodies[f"unused-{k}"] = Body(shape, s, (x, y, s[2] / 2), relevant=False)
-    return ExecModel.from_measurements(bodies, RULES.support_relations, RULES.home)
+    return EnvModel.measured(RULESET, bodies, RULES.home)
 
 
 ARCH = planmod.load(DATA / "inverted-arch.plan.json")

@@ -29,7 +29,11 @@ CASES = [
     ("Fig18-within-5mm", built(plate1=ObjectState((-21.0, 183.0, 55.2), PLATE)), True, []),
     ("Fig18-plate-6mm-off", built(plate1=ObjectState((-19.0, 180.0, 55.0), PLATE)), False,
      [("position", "plate1")]),
+    # lying on its side on the table: still on the table, but fallen, moved, and no longer
+    # carrying the plate
     ("Fig18-leg-toppled", built(brick2=ObjectState((-70.0, 240.0, 15.0), (30, 30, 50), 1.57)),
+     False, [("toppled", "brick2"), ("position", "brick2"), ("relation", "plate1")]),
+    ("Fig18-leg-leaning", built(brick2=ObjectState((-70.0, 240.0, 40.0), (30, 30, 50), 0.5)),
      False, [("toppled", "brick2"), ("relation", "brick2"), ("position", "brick2"),
              ("relation", "plate1")]),
     ("Fig18-plate-on-table", built(plate1=ObjectState((150.0, 300.0, 5.0), PLATE)), False,

@@ -25,6 +25,7 @@ from lbw_engine.cli.execute import execute_plan
 from lbw_engine.do import plan as planmod
 from lbw_engine.export.leaves import bind_leaves
 from lbw_engine.paths import default_rules_dir
+from lbw_engine.rules import load_rules
 from lbw_engine.understand.domain import run
 from perception.world import scenario as scenario_mod
 
@@ -45,7 +46,7 @@ def round_trip(plan_file: Path, scenario: Path, out: Path) -> dict:
     plan = planmod.load(plan_file)
     doc = export.replan_doc(plan, RULES, actions, "ACHIEVE")
     result = execute_plan(planmod.parse(doc, "<replanned>"), scenario_mod.load(scenario),
-                          RULES.commands)
+                          load_rules())
     assert result.success, result.message
     return doc
 

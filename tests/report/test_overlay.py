@@ -77,7 +77,7 @@ def test_execution_recorder_renders_the_robot(tmp_path):
     plan = planmod.parse(json.loads((ROOT / "tests/data/inverted-arch.plan.json").read_text()),
                          file="plan.json")
     recorder = ExecutionRecorder(tmp_path / "exec.mp4", every=3, keep_every=5.0, scale=1)
-    result = execute_plan(plan, sc, load_rules().commands, on_step=recorder)
+    result = execute_plan(plan, sc, load_rules(), on_step=recorder)
     recorder.close()
     assert result.success
     cap = cv2.VideoCapture(str(tmp_path / "exec.mp4"))

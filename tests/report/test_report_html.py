@@ -140,9 +140,9 @@ def test_run_report_of_a_real_run(tmp_path):
     arules = load_rules().analysis
     plan = analyze(parse_actions(actions, RelationTable(arules.tolerance)), arules).plan
     recorder = ExecutionRecorder(None, every=10, keep_every=5.0, scale=1)
-    result = execute_plan(planmod.parse(plan, file="plan.json"), sc,
-                          load_rules().commands, on_step=recorder)
-    html = run_report(sc, actions, plan, write_plan_text(plan), result,
+    result = execute_plan(planmod.parse(plan, file="plan.json"), sc, load_rules(),
+                          on_step=recorder)
+    html = run_report(sc, load_rules(), actions, plan, write_plan_text(plan), result,
                       frames=kept + recorder.kept)
     path = tmp_path / "report.html"
     path.write_text(html)

@@ -13,7 +13,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from lbw_engine.model.env import TABLE, EnvModel, EnvNode
+from lbw_engine.model.env import EnvModel, EnvNode
+from lbw_engine.names import TABLE
 from lbw_engine.see.detectors import Detection, Query
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
