@@ -107,9 +107,9 @@ def run_one(task: tuple[int, str, str | None]) -> dict[str, Any]:
 
 def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     """Run the phases on ``sc`` and fill ``rec`` with the figures."""
-    from lbw_engine.cli.execute import execute_plan
-    from lbw_engine.cli.watch import watch
     from lbw_engine.do import plan as planmod
+    from lbw_engine.pipeline.execute import execute_plan
+    from lbw_engine.pipeline.watch import watch
     from lbw_engine.see.actions import to_actions
     from lbw_engine.understand import RelationTable, analyze, parse_actions
     from perception.world.demonstrator import Demonstration

@@ -55,7 +55,8 @@ def top_of_plan(plan: dict[str, Any]) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     """Run the pipeline on scenarios/build-table.yaml and print the paper's figures."""
-    from lbw_engine.cli.run import pipeline, publish
+    from lbw_engine.pipeline.run import publish
+    from lbw_engine.pipeline.run import run as pipeline
     from perception.world.scenario import load
 
     scenario = load(bundled_scenario("build-table"))

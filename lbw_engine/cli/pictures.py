@@ -1,6 +1,6 @@
 """Pictures of a run for ``lbw run --video / --report`` (issue #7); not a subcommand.
 
-``run_with_pictures`` is ``run.pipeline`` with eyes for people: the
+``run_with_pictures`` is ``pipeline.run`` with eyes for people: the
 demonstration is watched through the monitor display of Fig. 19
 (``perception.pictures.overlay``), the robot's execution is rendered through the same
 cameras, the plan is drawn (``perception.pictures.plandraw``) and everything is put into
@@ -13,7 +13,7 @@ the caller's OutputDir:
 | report   | report.html (frames embedded as data URIs)                          |
 | either   | plan.svg, plan.png                                                  |
 
-The caller still publishes the usual files (``run.publish``). Recognition is
+The caller still publishes the usual files (``pipeline.run.publish``). Recognition is
 the same as ``lbw watch`` (the monitor only reads the recognizer after each
 frame; tests/report/test_overlay.py checks the sequences are identical).
 """
@@ -22,8 +22,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from lbw_engine.cli.run import RunResult, pipeline
 from lbw_engine.outputs import OutputDir
+from lbw_engine.pipeline.run import RunResult
+from lbw_engine.pipeline.run import run as pipeline
 
 
 def run_with_pictures(scenario: Any, rules_dir: Any, out: OutputDir, video: bool = True,

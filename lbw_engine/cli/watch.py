@@ -1,9 +1,7 @@
 """``lbw watch SCENARIO --out DIR [--rules DIR]``: recognize a demonstration from images.
 
-The world side (demonstrator and renderer, ``perception.world.stream``) produces
-frames one at a time; the recognizer (``perception.vision.envnodes.registry.watch_frames``)
-receives only that frame iterator, the camera models, the shape database and
-the teach names as a naming hint (docs/seeing.md). Writes ``actions.json``.
+lbw_engine.pipeline.watch renders the demonstration frame by frame and the
+recognizer reads only those frames (docs/seeing.md). Writes ``actions.json``.
 """
 
 from __future__ import annotations
@@ -14,6 +12,7 @@ from pathlib import Path
 
 from lbw_engine.errors import InputError
 from lbw_engine.outputs import OutputDir
+from lbw_engine.pipeline.watch import watch
 from lbw_engine.rules import load_rules
 from lbw_engine.see.actions import to_actions
 
@@ -26,17 +25,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
     parser.add_argument("--fps", type=float, default=30.0, help="frames per second (30)")
-
-
-def watch(scenario, rules, fps: float = 30.0, pixel_noise: float | None = None):
-    """Simulate, render and recognize online; returns (recognizer, hand state)."""
-    from perception.vision.camera import default_cameras
-    from perception.vision.envnodes.registry import watch_frames
-    from perception.world.stream import demonstration_frames, teach_names
-
-    cameras = default_cameras()
-    frames = demonstration_frames(scenario, cameras, fps=fps, pixel_noise=pixel_noise)
-    return watch_frames(frames, cameras, scenario.shapes, rules, teach_names(scenario))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -62,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
     elif any(op is None for op in ops):
         problems.append("some motions could not be classified")
     else:  # evaluation only: the scenario says what was demonstrated
-        from lbw_engine.cli.run import compare_with_truth
+        from lbw_engine.pipeline.run import compare_with_truth
 
         same = compare_with_truth(scenario, actions, rules)
         if not same["exact"]:

@@ -7,9 +7,9 @@ import cv2
 import numpy as np
 import pytest
 
-from lbw_engine.cli.execute import execute_plan
-from lbw_engine.cli.watch import watch
 from lbw_engine.do import plan as planmod
+from lbw_engine.pipeline.execute import execute_plan
+from lbw_engine.pipeline.watch import watch
 from lbw_engine.rules import load_rules
 from lbw_engine.see.actions import to_actions
 from perception.pictures.overlay import (

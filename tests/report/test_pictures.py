@@ -5,8 +5,8 @@ import xml.etree.ElementTree as ET
 import cv2
 
 from lbw_engine.cli.pictures import run_with_pictures
-from lbw_engine.cli.run import publish
 from lbw_engine.outputs import OutputDir
+from lbw_engine.pipeline.run import publish
 from perception.world.generator import generate
 
 

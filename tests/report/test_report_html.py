@@ -124,8 +124,8 @@ def test_timeline_rows():
 
 def test_run_report_of_a_real_run(tmp_path):
     """watch (with the monitor) → analyze → execute (recorded) → report.html, in Chromium."""
-    from lbw_engine.cli.execute import execute_plan
     from lbw_engine.do import plan as planmod
+    from lbw_engine.pipeline.execute import execute_plan
     from lbw_engine.rules import load_rules
     from lbw_engine.see.actions import to_actions
     from lbw_engine.understand import RelationTable, analyze, parse_actions
