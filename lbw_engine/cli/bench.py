@@ -1,13 +1,19 @@
-"""``lbw bench [--count N] [--seed S] [--out FILE] [--jobs J]``: measure the whole pipeline.
+"""``lbw bench``: measure the whole pipeline on seeded random scenarios.
 
 Generates N random scenarios (``perception.world.generator``; scenario i has seed
 S*1000+i and noise level nominal, 2x, 4x in turn), runs watch → analyze →
-execute on each in a process pool, and reports per noise level: exact-sequence
-rate, edit-distance accuracy, segmentation timing error (median, 95th
-percentile), plan correctness (the plan root's SC+ support relations equal the
-true final relations of the moved objects), execution success, real-time
-factors and pixels read per frame. A table on screen, every figure and every
-failing case (seed, structures, what went wrong) in the JSON file.
+execute on each and reports per noise level: exact-sequence rate, edit-distance
+accuracy, segmentation timing error (median, 95th percentile), plan correctness
+(the plan root's SC+ support relations equal the true final relations of the
+moved objects), execution success, real-time factors and pixels read per frame.
+The three rates come with their 95% Wilson intervals.
+
+Where the scenarios run (this process, ``--jobs N`` processes or a Dask cluster
+with ``--cluster``) is ``lbw_engine/cli/cluster.py``; it changes nothing in the
+records but their timings. Two files: ``--out FILE`` (the summary, the failing
+cases, the command) and ``--records FILE`` (JSON lines, one record per scenario,
+sorted by seed: everything but the ``*_seconds`` timings is reproducible from
+the seed and the rules).
 
 The ground truth is consulted only after each phase, for scoring.
 """
@@ -16,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import concurrent.futures as cf
+import json
 import math
 import os
 import sys
@@ -24,8 +31,9 @@ import traceback
 from pathlib import Path
 from typing import Any
 
+from lbw_engine.cli.cluster import executor, local_workers
 from lbw_engine.errors import InputError
-from lbw_engine.outputs import atomic_write_text, to_json
+from lbw_engine.outputs import OutputDir, atomic_write_text, to_json
 from lbw_engine.report.metrics import (
     compare_sequence,
     format_table,
@@ -38,13 +46,22 @@ LEVELS = ("nominal", "2x", "4x")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """--count, --seed, --out, --jobs, --rules."""
-    parser.add_argument("--count", type=int, default=30, help="number of scenarios (30)")
-    parser.add_argument("--seed", type=int, default=1, help="seed of the scenario set (1)")
+    """--count, --seed, --out, --records, --jobs, --cluster, --rules, --scenarios."""
+    parser.add_argument("--count", type=int, metavar="N", default=30,
+                        help="number of scenarios (30)")
+    parser.add_argument("--seed", type=int, metavar="N", default=1,
+                        help="seed of the scenario set (1)")
     parser.add_argument("--out", metavar="FILE", default="bench-pipeline.json",
-                        help="JSON results file (bench-pipeline.json)")
-    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                        help="worker processes (default: all cores)")
+                        help="summary JSON file (bench-pipeline.json)")
+    parser.add_argument("--records", metavar="FILE",
+                        help="per-scenario records, JSON lines (default: FILE of --out "
+                             "with the suffix .jsonl)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--jobs", type=int, metavar="N",
+                       help="worker processes on this machine (default: all cores)")
+    where.add_argument("--cluster", metavar="ADDRESS",
+                       help="run on a Dask cluster: a scheduler's tcp://HOST:PORT, or local:N "
+                            "for a local cluster of N workers (needs lbw[cluster])")
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
     parser.add_argument("--scenarios", metavar="DIR",
                         help="also write each generated scenario as DIR/gen-SEED-LEVEL.yaml "
@@ -162,26 +179,54 @@ def _progress(done: int, total: int, started: float, exact: int) -> None:
     sys.stderr.flush()
 
 
-def bench(count: int, seed: int, jobs: int, rules_dir: str | None = None) -> dict[str, Any]:
-    """Run the benchmark; returns the JSON document (summary, failures, per-scenario records)."""
-    work = [(s, level, rules_dir) for s, level in tasks(count, seed)]
+TIMINGS = ("watch_seconds", "analyze_seconds", "execute_seconds", "total_seconds")
+
+
+def reproducible(record: dict[str, Any]) -> dict[str, Any]:
+    """A record without its wall-clock timings: what any rerun of its seed must give."""
+    return {k: v for k, v in record.items() if k not in TIMINGS}
+
+
+def lost(task: tuple[int, str, str | None], exc: BaseException) -> dict[str, Any]:
+    """The record of a scenario whose worker died (the task itself catches its own errors)."""
+    seed, level, _ = task
+    return {"seed": seed, "level": level, "structures": [], "touches": 0, "distractors": 0,
+            "error": f"worker lost: {type(exc).__name__}: {exc}"}
+
+
+def run_all(work: list[tuple[int, str, str | None]], pool: cf.Executor | None,
+            ) -> list[dict[str, Any]]:
+    """Run every task here (``pool`` None) or on ``pool``; the records, sorted by seed."""
     started = time.perf_counter()
     records: list[dict[str, Any]] = []
+
+    def done(rec: dict[str, Any]) -> None:
+        records.append(rec)
+        _progress(len(records), len(work), started, sum(x.get("exact", 0) for x in records))
+
     _progress(0, len(work), started, 0)
-    if jobs <= 1:
-        results = map(run_one, work)
-        for r in results:
-            records.append(r)
-            _progress(len(records), len(work), started, sum(x.get("exact", 0) for x in records))
+    if pool is None:
+        for w in work:
+            done(run_one(w))
     else:
-        with cf.ProcessPoolExecutor(max_workers=jobs) as pool:
-            for fut in cf.as_completed([pool.submit(run_one, w) for w in work]):
-                records.append(fut.result())
-                _progress(len(records), len(work), started,
-                          sum(x.get("exact", 0) for x in records))
+        futures = {pool.submit(run_one, w): w for w in work}
+        for fut in cf.as_completed(futures):
+            try:
+                done(fut.result())
+            except Exception as exc:  # a worker process died: a finding, not the end
+                done(lost(futures[fut], exc))
     sys.stderr.write("\n")
-    records.sort(key=lambda r: r["seed"])
-    return {"count": count, "seed": seed, "jobs": jobs,
+    return sorted(records, key=lambda r: r["seed"])
+
+
+def bench(count: int, seed: int, jobs: int, rules_dir: str | None = None,
+          cluster: str | None = None) -> dict[str, Any]:
+    """Run the benchmark; returns the summary document, with the records as ``scenarios``."""
+    work = [(s, level, rules_dir) for s, level in tasks(count, seed)]
+    started = time.perf_counter()
+    with executor(jobs, cluster) as (pool, runner):
+        records = run_all(work, pool)
+    return {"count": count, "seed": seed, "runner": runner,
             "wall_seconds": round(time.perf_counter() - started, 1),
             "summary": summarize(records, LEVELS), "failures": failures(records),
             "scenarios": records}
@@ -207,24 +252,57 @@ def failures(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
+def records_text(records: list[dict[str, Any]]) -> str:
+    """JSON lines: one record per scenario, keys sorted so reruns compare line by line."""
+    return "".join(json.dumps(r, sort_keys=True, ensure_ascii=False) + "\n" for r in records)
+
+
+def _files(args: argparse.Namespace) -> tuple[Path, Path]:
+    """The summary and records paths; exit 2 if either names a folder or they coincide."""
+    out = Path(args.out)
+    recs = Path(args.records) if args.records else out.with_suffix(".jsonl")
+    if recs == out:
+        raise InputError("the records file must differ from the summary file", where="--records")
+    for path, flag in ((out, "--out"), (recs, "--records")):
+        if path.is_dir():
+            raise InputError("is a folder; give a file name", file=path, where=flag)
+    return out, recs
+
+
+def _command(args: argparse.Namespace) -> str:
+    """The command line that reproduces the run's records."""
+    where = f"--cluster {args.cluster}" if args.cluster else f"--jobs {args.jobs}"
+    rules = f" --rules {args.rules}" if args.rules else ""
+    return f"lbw bench --count {args.count} --seed {args.seed} {where}{rules}"
+
+
 def run(args: argparse.Namespace) -> int:
-    """Run, print the table and the failing cases, write the JSON file."""
+    """Run, print the table and the failing cases, write the summary and the records."""
+    if args.jobs is None:
+        args.jobs = os.cpu_count() or 1
     if args.count < 1 or args.jobs < 1:
         raise InputError("--count and --jobs must be at least 1", where="arguments")
+    if args.cluster:
+        local_workers(args.cluster)  # a bad local:N is bad input before any work
+    out, recs = _files(args)
+    rules = str(Path(args.rules).resolve()) if args.rules else None  # workers may start elsewhere
     if args.scenarios:
         from perception.world.generator import generate
 
-        folder = Path(args.scenarios)
-        for seed, level in tasks(args.count, args.seed):
-            atomic_write_text(folder / f"gen-{seed}-{level}.yaml", generate(seed, level).text)
-    doc = bench(args.count, args.seed, args.jobs, args.rules)
-    doc["command"] = f"lbw bench --count {args.count} --seed {args.seed} --jobs {args.jobs}"
-    atomic_write_text(args.out, to_json(doc))
+        with OutputDir(args.scenarios) as folder:
+            for seed, level in tasks(args.count, args.seed):
+                folder.write_text(f"gen-{seed}-{level}.yaml", generate(seed, level).text)
+    doc = bench(args.count, args.seed, args.jobs, rules, args.cluster)
+    records = doc.pop("scenarios")
+    doc["command"] = _command(args)
+    doc["records"] = str(recs)
+    atomic_write_text(recs, records_text(records))
+    atomic_write_text(out, to_json(doc))
     print(format_table(doc["summary"]))
-    print(f"{doc['count']} scenarios in {doc['wall_seconds']:.0f} s on {doc['jobs']} "
-          f"process(es); {len(doc['failures'])} failing case(s):")
+    print(f"{doc['count']} scenarios in {doc['wall_seconds']:.0f} s on {doc['runner']}; rates "
+          f"with 95% Wilson intervals; {len(doc['failures'])} failing case(s):")
     for f in doc["failures"]:
         print(f"  seed {f['seed']} ({f['level']}, {'+'.join(f['structures'])}, "
               f"{f['touches']} touch(es)): {'; '.join(f['what'])}")
-    print(f"figures and per-scenario records: {args.out}")
+    print(f"summary: {out}; per-scenario records: {recs}")
     return 0
