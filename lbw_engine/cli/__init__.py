@@ -1,7 +1,10 @@
 """The ``lbw`` command line.
 
 Each subcommand is a module in this package with ``HELP`` (one line),
-``add_arguments(parser)`` and ``run(args) -> int``. ``SUBCOMMANDS`` is the
+``EXIT_CODES`` (what each exit code means for it; shown under its --help),
+``add_arguments(parser)`` and ``run(args) -> int``. Help texts name values in
+capitals by their kind: SCENARIO, PLAN.json, ACTIONS.json, TRACE, DIR, FILE, N,
+ADDRESS. ``SUBCOMMANDS`` is the
 closed registry; modules are imported only when their command runs, so
 ``lbw check`` never loads the simulator.
 
@@ -17,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.metadata
 import sys
 from collections.abc import Sequence
 
@@ -48,14 +52,30 @@ def _available() -> dict[str, object]:
     return found
 
 
+def version() -> str:
+    """The installed distribution's version (pyproject.toml)."""
+    try:
+        return importlib.metadata.version("lbw")
+    except importlib.metadata.PackageNotFoundError:  # run from a source tree, not installed
+        return "unknown (not installed)"
+
+
+# design.md "Exit codes", for a command that does not say more about its own.
+EXIT_CODES = ("0 success; 1 the task failed; 2 bad input (one line: file, place, what is "
+              "wrong); 3 internal error")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argparse tree of all available subcommands."""
     parser = argparse.ArgumentParser(
-        prog="lbw", description="Learning by watching: see, understand and do a block assembly."
+        prog="lbw", description="Learning by watching: see, understand and do a block assembly.",
+        epilog=f"exit codes: {EXIT_CODES}. `lbw COMMAND --help` says what they mean for it.",
     )
+    parser.add_argument("--version", action="version", version=f"lbw {version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, module in _available().items():
-        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        p = sub.add_parser(name, help=module.HELP, description=module.HELP,
+                           epilog=f"exit codes: {getattr(module, 'EXIT_CODES', EXIT_CODES)}")
         module.add_arguments(p)
         p.set_defaults(_run=module.run)
     return parser

@@ -13,7 +13,8 @@ with ``--cluster``) is ``lbw_engine/cli/cluster.py``; it changes nothing in the
 records but their timings. Two files: ``--out FILE`` (the summary, the failing
 cases, the command) and ``--records FILE`` (JSON lines, one record per scenario,
 sorted by seed: everything but the ``*_seconds`` timings is reproducible from
-the seed and the rules).
+the seed and the rules). While it runs, finished records are appended to
+``FILE.partial`` (in the order they finish), which is removed at the end.
 
 The ground truth is consulted only after each phase, for scoring.
 """
@@ -42,6 +43,9 @@ from lbw_engine.report.metrics import (
 )
 
 HELP = "benchmark watch → analyze → execute on seeded random scenarios at three noise levels"
+EXIT_CODES = ("0 the benchmark ran (failing scenarios are findings, not errors: the "
+              "figures count them); 2 bad input (one line: place, what is wrong), also when "
+              "--cluster cannot be used; 3 internal error")
 LEVELS = ("nominal", "2x", "4x")
 
 
@@ -195,13 +199,21 @@ def lost(task: tuple[int, str, str | None], exc: BaseException) -> dict[str, Any
 
 
 def run_all(work: list[tuple[int, str, str | None]], pool: cf.Executor | None,
-            ) -> list[dict[str, Any]]:
-    """Run every task here (``pool`` None) or on ``pool``; the records, sorted by seed."""
+            partial: Path | None = None) -> list[dict[str, Any]]:
+    """Run every task here (``pool`` None) or on ``pool``; the records, sorted by seed.
+
+    Each record is also appended to ``partial`` as it arrives, so a long run that is
+    stopped keeps the scenarios it finished (the caller removes the file at the end).
+    """
     started = time.perf_counter()
     records: list[dict[str, Any]] = []
+    sink = partial.open("w", encoding="utf-8") if partial else None
 
     def done(rec: dict[str, Any]) -> None:
         records.append(rec)
+        if sink:
+            sink.write(records_text([rec]))
+            sink.flush()
         _progress(len(records), len(work), started, sum(x.get("exact", 0) for x in records))
 
     _progress(0, len(work), started, 0)
@@ -215,17 +227,19 @@ def run_all(work: list[tuple[int, str, str | None]], pool: cf.Executor | None,
                 done(fut.result())
             except Exception as exc:  # a worker process died: a finding, not the end
                 done(lost(futures[fut], exc))
+    if sink:
+        sink.close()
     sys.stderr.write("\n")
     return sorted(records, key=lambda r: r["seed"])
 
 
 def bench(count: int, seed: int, jobs: int, rules_dir: str | None = None,
-          cluster: str | None = None) -> dict[str, Any]:
+          cluster: str | None = None, partial: Path | None = None) -> dict[str, Any]:
     """Run the benchmark; returns the summary document, with the records as ``scenarios``."""
     work = [(s, level, rules_dir) for s, level in tasks(count, seed)]
     started = time.perf_counter()
     with executor(jobs, cluster) as (pool, runner):
-        records = run_all(work, pool)
+        records = run_all(work, pool, partial)
     return {"count": count, "seed": seed, "runner": runner,
             "wall_seconds": round(time.perf_counter() - started, 1),
             "summary": summarize(records, LEVELS), "failures": failures(records),
@@ -289,15 +303,19 @@ def run(args: argparse.Namespace) -> int:
     if args.scenarios:
         from perception.world.generator import generate
 
-        with OutputDir(args.scenarios) as folder:
+        with OutputDir(args.scenarios, inputs=[rules] if rules else [],
+                       flag="--scenarios") as folder:
             for seed, level in tasks(args.count, args.seed):
                 folder.write_text(f"gen-{seed}-{level}.yaml", generate(seed, level).text)
-    doc = bench(args.count, args.seed, args.jobs, rules, args.cluster)
+    partial = recs.with_name(recs.name + ".partial")
+    partial.parent.mkdir(parents=True, exist_ok=True)
+    doc = bench(args.count, args.seed, args.jobs, rules, args.cluster, partial)
     records = doc.pop("scenarios")
     doc["command"] = _command(args)
     doc["records"] = str(recs)
     atomic_write_text(recs, records_text(records))
     atomic_write_text(out, to_json(doc))
+    partial.unlink(missing_ok=True)
     print(format_table(doc["summary"]))
     print(f"{doc['count']} scenarios in {doc['wall_seconds']:.0f} s on {doc['runner']}; rates "
           f"with 95% Wilson intervals; {len(doc['failures'])} failing case(s):")

@@ -108,6 +108,7 @@ def test_lbw_bench_command(tmp_path, capsys):
     assert doc["count"] == 1 and doc["records"] == str(tmp_path / "bench.jsonl")
     assert doc["command"] == "lbw bench --count 1 --seed 0 --jobs 1"
     lines = (tmp_path / "bench.jsonl").read_text().splitlines()
+    assert not (tmp_path / "bench.jsonl.partial").exists()  # only while running
     assert len(lines) == 1
     rec = json.loads(lines[0])
     assert rec["seed"] == 0 and rec["level"] == "nominal" and "exact" in rec
