@@ -85,7 +85,7 @@ def _client(distributed: Any, cluster: str) -> Iterator[Any]:
     n = local_workers(cluster)
     if n is not None:
         with distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                      dashboard_address=None, silence_logs=logging.ERROR) as lc, \
+                                      dashboard_address=":0", silence_logs=logging.ERROR) as lc, \
                 distributed.Client(lc) as client:
             yield client
         return
