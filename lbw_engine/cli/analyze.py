@@ -32,7 +32,8 @@ def run(args: argparse.Namespace) -> int:
     result = analyze_file(args.actions, args.rules)
     out = Path(args.out) if args.out else Path(args.actions).resolve().parent
     inputs = [args.actions, *([args.rules] if args.rules else [])]
-    with OutputDir(out, inputs=inputs) as staged:
+    flag = "--out" if args.out else "--out (default: the folder of ACTIONS.json)"
+    with OutputDir(out, inputs=inputs, flag=flag) as staged:
         staged.write_json("plan.json", result.plan)
         staged.write_text("plan.txt", write_plan_text(result.plan))
     n_achieve = sum(1 for op in result.operators.values() if op.cls == "ACHIEVE")

@@ -121,6 +121,19 @@ def test_lbw_bench_command(tmp_path, capsys):
                                     rec["execution_success"] else 1)
 
 
+@pytest.mark.parametrize("argv,message", [
+    (["--out", "{tmp}"], "{tmp}: --out: is a folder; give a file name"),
+    (["--out", "{tmp}/b.json", "--records", "{tmp}"], "{tmp}: --records: is a folder"),
+    (["--out", "{tmp}/b.json", "--records", "{tmp}/b.json"],
+     "--records: the records file must differ from the summary file"),
+], ids=["out-folder", "records-folder", "same-file"])
+def test_lbw_bench_rejects_bad_files_before_running(tmp_path, capsys, argv, message):
+    argv = [a.format(tmp=tmp_path) for a in argv]
+    assert main(["bench", "--count", "1", "--jobs", "1", *argv]) == 2
+    assert message.format(tmp=tmp_path) in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_lbw_bench_rejects_bad_counts(capsys):
     assert main(["bench", "--count", "0"]) == 2
     assert "--count" in capsys.readouterr().err
