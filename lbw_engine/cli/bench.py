@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import concurrent.futures as cf
+import contextlib
 import json
 import math
 import os
@@ -207,28 +208,27 @@ def run_all(work: list[tuple[int, str, str | None]], pool: cf.Executor | None,
     """
     started = time.perf_counter()
     records: list[dict[str, Any]] = []
-    sink = partial.open("w", encoding="utf-8") if partial else None
+    with contextlib.ExitStack() as stack:
+        sink = stack.enter_context(partial.open("w", encoding="utf-8")) if partial else None
 
-    def done(rec: dict[str, Any]) -> None:
-        records.append(rec)
-        if sink:
-            sink.write(records_text([rec]))
-            sink.flush()
-        _progress(len(records), len(work), started, sum(x.get("exact", 0) for x in records))
+        def done(rec: dict[str, Any]) -> None:
+            records.append(rec)
+            if sink:
+                sink.write(records_text([rec]))
+                sink.flush()
+            _progress(len(records), len(work), started, sum(x.get("exact", 0) for x in records))
 
-    _progress(0, len(work), started, 0)
-    if pool is None:
-        for w in work:
-            done(run_one(w))
-    else:
-        futures = {pool.submit(run_one, w): w for w in work}
-        for fut in cf.as_completed(futures):
-            try:
-                done(fut.result())
-            except Exception as exc:  # a worker process died: a finding, not the end
-                done(lost(futures[fut], exc))
-    if sink:
-        sink.close()
+        _progress(0, len(work), started, 0)
+        if pool is None:
+            for w in work:
+                done(run_one(w))
+        else:
+            futures = {pool.submit(run_one, w): w for w in work}
+            for fut in cf.as_completed(futures):
+                try:
+                    done(fut.result())
+                except Exception as exc:  # a worker process died: a finding, not the end
+                    done(lost(futures[fut], exc))
     sys.stderr.write("\n")
     return sorted(records, key=lambda r: r["seed"])
 
