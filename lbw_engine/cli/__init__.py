@@ -39,6 +39,10 @@ SUBCOMMANDS: dict[str, str] = {
     "bench": "bench",
 }
 
+EXIT_CODES = ("exit codes: 0 success; 1 the task failed (recognition or execution did not "
+              "verify); 2 bad input (one line naming the file and the place); 3 an internal "
+              "error (one line naming the crash file with the details)")
+
 
 def _available() -> dict[str, object]:
     """Import the registered subcommand modules that exist in this checkout."""
@@ -60,22 +64,19 @@ def version() -> str:
         return "unknown (not installed)"
 
 
-# design.md "Exit codes", for a command that does not say more about its own.
-EXIT_CODES = ("0 success; 1 the task failed; 2 bad input (one line: file, place, what is "
-              "wrong); 3 internal error")
-
-
 def build_parser() -> argparse.ArgumentParser:
     """The argparse tree of all available subcommands."""
     parser = argparse.ArgumentParser(
         prog="lbw", description="Learning by watching: see, understand and do a block assembly.",
-        epilog=f"exit codes: {EXIT_CODES}. `lbw COMMAND --help` says what they mean for it.",
+        epilog=EXIT_CODES,
     )
     parser.add_argument("--version", action="version", version=f"lbw {version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, module in _available().items():
+        # A command's own EXIT_CODES say what each code means for it (its --help).
+        codes = getattr(module, "EXIT_CODES", None)
         p = sub.add_parser(name, help=module.HELP, description=module.HELP,
-                           epilog=f"exit codes: {getattr(module, 'EXIT_CODES', EXIT_CODES)}")
+                           epilog=f"exit codes: {codes}" if codes else EXIT_CODES)
         module.add_arguments(p)
         p.set_defaults(_run=module.run)
     return parser
