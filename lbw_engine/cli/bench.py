@@ -14,7 +14,8 @@ records but their timings. Two files: ``--out FILE`` (the summary, the failing
 cases, the command) and ``--records FILE`` (JSON lines, one record per scenario,
 sorted by seed: everything but the ``*_seconds`` timings is reproducible from
 the seed and the rules). While it runs, finished records are appended to
-``FILE.partial`` (in the order they finish), which is removed at the end.
+``FILE.partial`` (in the order they finish), which is removed at the end;
+``--resume`` keeps the records of a stopped run's partial file and runs the rest.
 
 The ground truth is consulted only after each phase, for scoring.
 """
@@ -30,6 +31,7 @@ import os
 import sys
 import time
 import traceback
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -67,6 +69,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     where.add_argument("--cluster", metavar="ADDRESS",
                        help="run on a Dask cluster: a scheduler's tcp://HOST:PORT, or local:N "
                             "for a local cluster of N workers (needs lbw[cluster])")
+    parser.add_argument("--resume", action="store_true",
+                        help="keep the records that a stopped run of the same command left in "
+                             "the records FILE.partial, and run only the other scenarios")
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
     parser.add_argument("--scenarios", metavar="DIR",
                         help="also write each generated scenario as DIR/gen-SEED-LEVEL.yaml "
@@ -200,25 +205,31 @@ def lost(task: tuple[int, str, str | None], exc: BaseException) -> dict[str, Any
 
 
 def run_all(work: list[tuple[int, str, str | None]], pool: cf.Executor | None,
-            partial: Path | None = None) -> list[dict[str, Any]]:
-    """Run every task here (``pool`` None) or on ``pool``; the records, sorted by seed.
+            partial: Path | None = None, kept: Sequence[dict[str, Any]] = (),
+            ) -> list[dict[str, Any]]:
+    """Run every task here (``pool`` None) or on ``pool``; with ``kept``, the records
+    sorted by seed.
 
-    Each record is also appended to ``partial`` as it arrives, so a long run that is
-    stopped keeps the scenarios it finished (the caller removes the file at the end).
+    Each record is also appended to ``partial`` as it arrives (after ``kept``), so a
+    long run that is stopped keeps the scenarios it finished (the caller removes the
+    file at the end).
     """
     started = time.perf_counter()
-    records: list[dict[str, Any]] = []
+    records: list[dict[str, Any]] = list(kept)
+    total = len(work) + len(kept)
     with contextlib.ExitStack() as stack:
         sink = stack.enter_context(partial.open("w", encoding="utf-8")) if partial else None
+        if sink:
+            sink.write(records_text(records))
 
         def done(rec: dict[str, Any]) -> None:
             records.append(rec)
             if sink:
                 sink.write(records_text([rec]))
                 sink.flush()
-            _progress(len(records), len(work), started, sum(x.get("exact", 0) for x in records))
+            _progress(len(records), total, started, sum(x.get("exact", 0) for x in records))
 
-        _progress(0, len(work), started, 0)
+        _progress(len(records), total, started, sum(x.get("exact", 0) for x in records))
         if pool is None:
             for w in work:
                 done(run_one(w))
@@ -233,13 +244,34 @@ def run_all(work: list[tuple[int, str, str | None]], pool: cf.Executor | None,
     return sorted(records, key=lambda r: r["seed"])
 
 
+def resumable(partial: Path, wanted: set[tuple[int, str]]) -> list[dict[str, Any]]:
+    """The records of a stopped run's partial file that belong to this scenario set
+    (one per seed; a line torn by the stop is left out and its scenario run again)."""
+    found: dict[int, dict[str, Any]] = {}
+    if partial.is_file():
+        for line in partial.read_text(encoding="utf-8").splitlines():
+            try:
+                rec = json.loads(line)
+            except json.JSONDecodeError:
+                continue
+            if isinstance(rec, dict) and (rec.get("seed"), rec.get("level")) in wanted:
+                found[rec["seed"]] = rec
+    return list(found.values())
+
+
 def bench(count: int, seed: int, jobs: int, rules_dir: str | None = None,
-          cluster: str | None = None, partial: Path | None = None) -> dict[str, Any]:
-    """Run the benchmark; returns the summary document, with the records as ``scenarios``."""
+          cluster: str | None = None, partial: Path | None = None,
+          resume: bool = False) -> dict[str, Any]:
+    """Run the benchmark; returns the summary document, with the records as ``scenarios``.
+
+    ``resume``: keep the records ``partial`` already holds and run only the others.
+    """
     work = [(s, level, rules_dir) for s, level in tasks(count, seed)]
+    kept = resumable(partial, {w[:2] for w in work}) if resume and partial else []
+    done = {r["seed"] for r in kept}
     started = time.perf_counter()
     with executor(jobs, cluster) as (pool, runner):
-        records = run_all(work, pool, partial)
+        records = run_all([w for w in work if w[0] not in done], pool, partial, kept)
     return {"count": count, "seed": seed, "runner": runner,
             "wall_seconds": round(time.perf_counter() - started, 1),
             "summary": summarize(records, LEVELS), "failures": failures(records),
@@ -309,7 +341,7 @@ def run(args: argparse.Namespace) -> int:
                 folder.write_text(f"gen-{seed}-{level}.yaml", generate(seed, level).text)
     partial = recs.with_name(recs.name + ".partial")
     partial.parent.mkdir(parents=True, exist_ok=True)
-    doc = bench(args.count, args.seed, args.jobs, rules, args.cluster, partial)
+    doc = bench(args.count, args.seed, args.jobs, rules, args.cluster, partial, args.resume)
     records = doc.pop("scenarios")
     doc["command"] = _command(args)
     doc["records"] = str(recs)

@@ -96,3 +96,32 @@ def test_a_lost_worker_is_a_crashed_record_not_the_end(monkeypatch, tmp_path):
                                            "touches": 0, "what": [crashed]}]
     assert sorted(json.loads(line)["seed"] for line in partial.read_text().splitlines()) == \
         [1, 2, 3]
+
+
+def test_resume_keeps_a_stopped_runs_records_and_runs_the_rest(monkeypatch, tmp_path):
+    from lbw_engine.cli import bench as benchmod
+
+    ran = []
+
+    figures = {"accuracy": 1.0, "timing_errors": [0.1], "demo_seconds": 100.0,
+               "watch_seconds": 1.0, "total_seconds": 2.0, "pixels_per_frame": 5000.0}
+
+    def fake(task):
+        ran.append(task[0])
+        return {"seed": task[0], "level": task[1], "structures": ["arch"], "touches": 0,
+                "exact": True, "plan_correct": True, "execution_success": True, **figures}
+
+    monkeypatch.setattr(benchmod, "run_one", fake)
+    partial = tmp_path / "r.jsonl.partial"
+    kept = {"seed": 1000, "level": "nominal", "structures": ["table"], "touches": 1,
+            "exact": False, "difference": "at #3: expected PICK, got NO-OP",
+            "plan_correct": True, "execution_success": True, **figures}
+    other_set = dict(kept, seed=7000)
+    partial.write_text(benchmod.records_text([kept, other_set]) + '{"seed": 1001, "lev')
+    doc = benchmod.bench(3, 1, 1, partial=partial, resume=True)
+    assert ran == [1001, 1002]  # the torn line's scenario runs again; 7000 is not in the set
+    assert [r["seed"] for r in doc["scenarios"]] == [1000, 1001, 1002]
+    assert doc["scenarios"][0] == kept
+    assert doc["summary"]["nominal"]["exact_sequence_rate"] == 0.0  # the kept record counts
+    assert [json.loads(line)["seed"] for line in partial.read_text().splitlines()] == \
+        [1000, 1001, 1002]
