@@ -13,11 +13,14 @@ import argparse
 from lbw_engine.rules import RULE_FILES, check_detectors, load_rules
 
 HELP = "validate rule files (exit 2 with file:line on the first problem)"
+EXIT_CODES = ("0 the rule files are valid; 2 a rule file is bad (one line: file, line, what is "
+              "wrong); 3 internal error")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """RULES_DIR is optional: the bundled rules/ by default."""
-    parser.add_argument("rules_dir", nargs="?", metavar="RULES_DIR", help="folder of rule files")
+    """DIR is optional: the bundled rules/ by default."""
+    parser.add_argument("rules_dir", nargs="?", metavar="DIR",
+                        help="folder of rule files (default: bundled rules/)")
 
 
 def run(args: argparse.Namespace) -> int:

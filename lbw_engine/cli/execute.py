@@ -12,24 +12,30 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from lbw_engine.do import plan as planmod
 from lbw_engine.outputs import OutputDir
 from lbw_engine.pipeline.execute import VIA, execute_plan, write_views
 from lbw_engine.rules import load_rules
 
-HELP = "Instantiate a plan in the scenario's execution workspace, run it with the robot, verify."
+HELP = "instantiate a plan in the scenario's execution workspace, run it with the robot, verify"
+EXIT_CODES = ("0 the built structure verifies; 1 instantiation or execution failed or did not "
+              "verify (the files are still written); 2 bad input (one line: file, place, what is "
+              "wrong); 3 internal error")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """Arguments of ``lbw execute``."""
-    p.add_argument("plan", help="plan.json written by `lbw analyze`")
-    p.add_argument("scenario", help="scenario YAML with an `execute` workspace")
-    p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--rules", default=None, help="rules directory (default: bundled rules/)")
-    p.add_argument("--via", choices=VIA, default=VIA[0],
-                   help="trace: run the traced commands; bt: tick the plan's behaviour tree "
-                        "(lbw_engine/do/behaviour.py)")
+    p.add_argument("plan", metavar="PLAN.json", help="plan written by `lbw analyze`")
+    p.add_argument("scenario", metavar="SCENARIO",
+                   help="scenario YAML file with an `execute` workspace")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    p.add_argument("--rules", metavar="DIR", default=None,
+                   help="rule folder (default: bundled rules/)")
+    p.add_argument("--via", choices=VIA, default=VIA[0], metavar="MODE",
+                   help="trace: run the traced commands (default); bt: tick the plan's "
+                        "behaviour tree (lbw_engine/do/behaviour.py)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -39,12 +45,25 @@ def run(args: argparse.Namespace) -> int:
     rules = load_rules(args.rules)
     plan = planmod.load(args.plan)
     sc = scenario_mod.load(args.scenario)
-    with OutputDir(args.out) as out:
+    with OutputDir(args.out, inputs=[args.plan, args.scenario, *([args.rules] if args.rules
+                                                                   else [])],
+                   keep=_continued(args.plan, args.out)) as out:
         result = execute_plan(plan, sc, rules, via=args.via)
         out.write_text("commands.txt", result.commands_text)
         out.write_json("execution.json", result.report)
         write_views(out, result.views)
+    done = f"plan {plan.root} in {sc.name}: {result.report.get('commands', 0)} commands"
     if not result.success:
-        print(f"lbw execute: {result.phase}: {result.message}", file=sys.stderr)
+        print(f"lbw execute: {done}; failed: {result.phase}: {result.message}; outputs in "
+              f"{args.out}", file=sys.stderr)
         return 1
+    print(f"lbw execute: {done}; verified ({result.message}); outputs in {args.out}")
     return 0
+
+
+def _continued(plan: str, out: str) -> list[str]:
+    """The earlier phases' files kept when the plan is read from the output folder itself
+    (``lbw execute d/plan.json S --out d`` continues the run in d)."""
+    if Path(plan).resolve().parent != Path(out).resolve():
+        return []
+    return ["actions.json", "plan.txt"]

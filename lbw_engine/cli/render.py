@@ -9,14 +9,18 @@ from lbw_engine.errors import InputError
 from lbw_engine.outputs import OutputDir
 
 HELP = "render a scenario's demonstration to DIR/demonstration.mp4 (top | side views)"
+EXIT_CODES = ("0 the video is written; 2 bad input (one line: file, place, what is wrong); "
+              "3 internal error")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """SCENARIO file, --out DIR, optional --fps and --size."""
     parser.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
-    parser.add_argument("--fps", type=float, default=30.0, help="frames per second (30)")
-    parser.add_argument("--size", type=int, default=256, help="camera image size in pixels")
+    parser.add_argument("--fps", type=float, metavar="N", default=30.0,
+                        help="frames per second (30)")
+    parser.add_argument("--size", type=int, metavar="N", default=256,
+                        help="camera image size in pixels (256)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -35,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
     demo = Demonstration(scenario, fps=args.fps)
     renderer = Renderer(default_cameras(args.size), pixel_noise=scenario.noise.pixel,
                         seed=scenario.seed)
-    with OutputDir(args.out) as out:
+    with OutputDir(args.out, inputs=[args.scenario]) as out:
         path = out.path("demonstration.mp4")
         writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), args.fps,
                                  (2 * args.size, args.size), isColor=False)

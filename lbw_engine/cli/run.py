@@ -22,6 +22,9 @@ from lbw_engine.pipeline.run import publish
 from lbw_engine.pipeline.run import run as run_pipeline
 
 HELP = "watch a demonstration, learn its plan, execute it in the new layout and verify"
+EXIT_CODES = ("0 success; 1 the task failed: recognition differs from the demonstration, or "
+              "execution did not verify (the files are still written, execution.json names the "
+              "phase); 2 bad input (one line: file, place, what is wrong); 3 internal error")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -40,7 +43,8 @@ def run(args: argparse.Namespace) -> int:
     from perception.world.scenario import load
 
     scenario = load(Path(args.scenario))
-    with OutputDir(args.out) as out:
+    inputs = [args.scenario, *([args.rules] if args.rules else [])]
+    with OutputDir(args.out, inputs=inputs) as out:
         if args.video or args.report:
             from lbw_engine.cli.pictures import run_with_pictures
 

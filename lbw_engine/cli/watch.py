@@ -17,6 +17,9 @@ from lbw_engine.rules import load_rules
 from lbw_engine.see.actions import to_actions
 
 HELP = "watch a scenario's demonstration through the two cameras; writes actions.json"
+EXIT_CODES = ("0 recognized as demonstrated; 1 recognition failed or differs from the "
+              "demonstration (actions.json is still written); 2 bad input (one line: file, "
+              "place, what is wrong); 3 internal error")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -24,7 +27,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
-    parser.add_argument("--fps", type=float, default=30.0, help="frames per second (30)")
+    parser.add_argument("--fps", type=float, metavar="N", default=30.0,
+                        help="frames per second (30)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -36,9 +40,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--fps must be positive", where="arguments")
     rules = load_rules(args.rules)
     scenario = load(Path(args.scenario))
-    recognizer, _ = watch(scenario, rules, fps=args.fps)
-    actions = to_actions(recognizer)
-    with OutputDir(args.out) as out:
+    inputs = [args.scenario, *([args.rules] if args.rules else [])]
+    with OutputDir(args.out, inputs=inputs) as out:  # a bad --out is refused before watching
+        recognizer, _ = watch(scenario, rules, fps=args.fps)
+        actions = to_actions(recognizer)
         path = out.write_json("actions.json", actions)
     ops = [op["operation"] for op in actions["operations"]]
     print(f"lbw watch: {len(actions['objects'])} objects, {len(ops)} operations -> {path}")
