@@ -51,15 +51,19 @@ class ActionSequence:
 
 def load_actions(path: str | Path, table: RelationTable) -> ActionSequence:
     """Read and check an actions.json file; relations are interned into ``table``."""
+    return parse_actions(read_actions(path), table, str(path))
+
+
+def read_actions(path: str | Path) -> Any:
+    """The JSON document of an actions.json file (not yet checked: ``parse_actions``)."""
     path = Path(path)
     text = read_input(path, expected="an actions.json file")
     try:
-        doc = json.loads(text, parse_constant=_reject_constant)
+        return json.loads(text, parse_constant=_reject_constant)
     except json.JSONDecodeError as exc:
         raise InputError(f"invalid JSON: {exc.msg}", file=path, line=exc.lineno) from None
     except ValueError as exc:
         raise InputError(str(exc), file=path) from None
-    return parse_actions(doc, table, str(path))
 
 
 def _reject_constant(name: str) -> Any:
