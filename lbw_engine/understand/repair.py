@@ -16,7 +16,8 @@ A change is a candidate when its run has no inconsistency at or before p and
 none the sequence did not have (it fixes p and breaks nothing). Of the
 candidates, those leaving the fewest inconsistencies count; the change is made
 only when exactly one is left. Zero or several leave the sequence as
-recognized, and the inconsistency is reported. Then the next one is treated.
+recognized, and the inconsistency is reported. Then the next one is treated
+(after one left as recognized, too).
 Nothing is inserted: a change needs a recognized motion to act on. Every change
 is recorded in actions.json ``repairs`` (design.md): ``at`` (where ``now``
 starts in the repaired ``operations``), ``was``, ``now`` (whole operation
@@ -95,10 +96,15 @@ def repair_actions(doc: dict[str, Any], rules: RuleSet) -> Repaired:
         return Repaired(doc, left=[str(f) for f in run.findings], checked=False)
     made: list[tuple[Change, list[Entry], Entry | None, str]] = []
     notes: dict[str, str] = {}  # finding -> why it stayed
-    while not run.consistent and len(made) < len(ops):
-        chosen = _choose(rules, start, binder, entries, run, notes)
-        if chosen is None:
+    skipped: set[int] = set()  # where no single change fits (origins): passed over
+    while len(made) + len(skipped) < len(ops):
+        todo = [f for f in run.findings if entries[f.index].origin not in skipped]
+        if not todo:
             break
+        chosen = _choose(rules, start, binder, entries, run, todo[0], skipped, notes)
+        if chosen is None:
+            skipped.add(entries[todo[0].index].origin)
+            continue
         change, trial, why = chosen
         after = entries[change.at + change.count] if change.at + change.count < len(entries) \
             else None
@@ -124,9 +130,13 @@ def _record(entries: list[Entry], change: Change, was: list[Entry], after: Entry
 
 
 def _choose(rules: RuleSet, start: Start, binder: Binder, entries: list[Entry], run: Run,
-            notes: dict[str, str]) -> tuple[Change, list[Entry], str] | None:
-    """The one change that fixes the first inconsistency and breaks nothing, or None."""
-    first = run.findings[0]
+            first: Finding, skipped: set[int], notes: dict[str, str]
+            ) -> tuple[Change, list[Entry], str] | None:
+    """The one change that fixes ``first`` and breaks nothing, or None.
+
+    Findings before ``first`` are ones no single change fixed (``skipped``);
+    a change may leave them, as it may leave the later ones.
+    """
     p_origin = entries[first.index].origin
     current = {entries[f.index].origin for f in run.findings}
     scored: list[tuple[int, Change, list[Entry]]] = []
@@ -135,7 +145,8 @@ def _choose(rules: RuleSet, start: Start, binder: Binder, entries: list[Entry], 
 
         def useless(f: Finding, trial: list[Entry] = trial) -> bool:
             origin = trial[f.index].origin
-            return origin <= p_origin or origin not in current
+            return origin not in current or origin == p_origin or \
+                (origin < p_origin and origin not in skipped)
 
         tried = run_sequence(start, [e.record for e in trial], binder, stop=useless)
         if not any(useless(f) for f in tried.findings):

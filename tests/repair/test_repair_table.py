@@ -91,6 +91,10 @@ def two_carries_cut(ops):
     return carry_cut_in_two(carry_cut_in_two(ops), "reach-with-obj04", "no10")
 
 
+def unfixable_then_cut(ops):
+    return carry_cut_in_two(fetch_unseen(ops), "reach-with-obj04", "no10")
+
+
 ROWS = [
     ("as-recognized", lambda ops: ops, [], True, 0),
     ("no-op-between-carry-and-its-place", touch_over_table,
@@ -108,6 +112,9 @@ ROWS = [
        [("reach-with-obj02a", "REACH-WITH-OBJ")]),
       (16, ["reach-with-obj04a", "no10", "reach-with-obj04"],
        [("reach-with-obj04a", "REACH-WITH-OBJ")])], True, 0),
+    ("a-slip-after-one-left-as-is", unfixable_then_cut,
+     [(14, ["reach-with-obj04a", "no10", "reach-with-obj04"],
+       [("reach-with-obj04a", "REACH-WITH-OBJ")])], False, 1),
 ]
 
 
