@@ -21,9 +21,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Simulate the demonstration, render every frame, write an MP4 (published on success)."""
-    import cv2
     import numpy as np
 
+    from perception.pictures.video import VideoFile
     from perception.vision.camera import default_cameras
     from perception.world.demonstrator import Demonstration
     from perception.world.render import Renderer
@@ -36,17 +36,13 @@ def run(args: argparse.Namespace) -> int:
     renderer = Renderer(default_cameras(args.size), pixel_noise=scenario.noise.pixel,
                         seed=scenario.seed)
     with OutputDir(args.out) as out:
-        path = out.path("demonstration.mp4")
-        writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), args.fps,
-                                 (2 * args.size, args.size), isColor=False)
-        if not writer.isOpened():
-            raise InputError("OpenCV cannot write MP4 here", file=path)
+        video = VideoFile(out.path("demonstration.mp4"), args.fps)  # H.264: browsers play it
         try:
             for _, scene in demo:
                 views = renderer.render(scene)
-                writer.write(np.hstack([views["top"], views["side"]]))
+                video.add(np.hstack([views["top"], views["side"]]))
         finally:
-            writer.release()
+            video.close()
     print(f"lbw render: {demo.n_frames} frames ({demo.duration:.1f} s) -> "
           f"{Path(args.out) / 'demonstration.mp4'}")
     return 0
