@@ -13,7 +13,7 @@ next. ``MotionRecorder`` is a per-frame hook for ``watch_frames`` (through
   ACT-node's interval with the events that opened and closed it (Fig. 12).
 
 It only reads the recognizer and the tracked hand after each frame, so it does
-not change recognition (tests/report/test_motion.py checks that).
+not change recognition (tests/report/test_overlay.py checks that).
 """
 
 from __future__ import annotations

@@ -56,12 +56,16 @@ def frame_label(t: float) -> str:
     return f"t = {t:.2f} s"
 
 
-def video_html(ident: str, mp4: bytes | None) -> str:
-    """A <video> playing ``mp4`` from a data URI (H.264, overlay.VideoFile); '' without one."""
+def video_html(ident: str, mp4: bytes | None, frames: Frames = ()) -> str:
+    """A <video> playing ``mp4`` from a data URI (H.264, video.VideoFile); '' without one.
+
+    The first of ``frames`` is its poster: shown before it plays, and in printouts.
+    """
     if not mp4:
         return ""
     uri = "data:video/mp4;base64," + base64.b64encode(mp4).decode("ascii")
-    return f'<video id="{ident}" controls preload="metadata" src="{uri}"></video>'
+    poster = f' poster="{jpeg_uri(frames[0][1])}"' if frames else ""
+    return f'<video id="{ident}" controls preload="metadata"{poster} src="{uri}"></video>'
 
 
 def strip_html(ident: str, frames: Frames) -> str:
@@ -123,8 +127,8 @@ def _execution(frames: Frames, mp4: bytes | None,
     figures = "".join(f'<figure id="{esc(key)}"><img src="{jpeg_uri(img, 85)}" alt="{esc(key)}">'
                       f"<figcaption>{esc(caption)}</figcaption></figure>"
                       for key, caption, img in states)
-    return ('<section id="execution"><h2>Execution</h2>' + video_html("execution-video", mp4)
-            + strip_html("execution-frames", frames)
+    return ('<section id="execution"><h2>Execution</h2>'
+            + video_html("execution-video", mp4, frames) + strip_html("execution-frames", frames)
             + f'<h3>Initial and final state</h3><div id="states">{figures or "<p>none</p>"}'
             "</div></section>")
 
@@ -155,7 +159,8 @@ def render_report(*, title: str, scenario_text: str, actions: dict[str, Any],
     body = [
         f"<h1>{esc(title)}</h1>",
         f'<section id="scenario"><h2>Scenario</h2><pre>{esc(scenario_text)}</pre></section>',
-        '<section id="video"><h2>Demonstration</h2>' + video_html("demonstration-video", video_mp4)
+        '<section id="video"><h2>Demonstration</h2>'
+        + video_html("demonstration-video", video_mp4, frames)
         + strip_html("demonstration-frames", frames) + "</section>",
         _sequence(truth, ops),
         _motion(motion_svg, motion_legend),
