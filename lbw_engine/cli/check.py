@@ -6,10 +6,12 @@ import argparse
 from pathlib import Path
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import shorten
 from lbw_engine.rules import RULE_FILES, load_rules
 from lbw_engine.rules import commands as commandrules
 from lbw_engine.understand import load_rules as load_analysis_rules
 from lbw_engine.understand import load_templates
+from lbw_engine.understand.plottext import check_grammar as check_plot_grammar
 
 HELP = "validate rule files (exit 2 with file:line on the first problem)"
 
@@ -37,8 +39,8 @@ def cross_check(operations: set[str], named: list[tuple[set[str], Path, str]]) -
     for words, path, what in named:
         for word in sorted(words - operations):
             raise InputError(
-                f"the {what} names operation {word!r}, which the recognizer's operations.yaml "
-                f"does not define (known: {', '.join(sorted(operations))})",
+                f"the {what} names operation {shorten(word)}, which the recognizer's "
+                f"operations.yaml does not define (known: {', '.join(sorted(operations))})",
                 file=path, line=_line_naming(path, word))
 
 
@@ -47,6 +49,7 @@ def run(args: argparse.Namespace) -> int:
     rules = load_rules(args.rules_dir)
     analysis = load_analysis_rules(rules.directory)
     templates = load_templates(analysis)
+    check_plot_grammar(analysis.plot_grammar_file, rules.hold_relation)
     commands = commandrules.load_dir(rules.directory)
     words = {t.pattern.value for t in templates.parser.terminals if t.pattern.type == "str"}
     cross_check(rules.operations, [
@@ -55,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
         (set(commands.operations), Path(commands.file), "command expansion"),
     ])
     print(
-        f"lbw check: {rules.directory}: {len(RULE_FILES) + 3} rule files OK "
+        f"lbw check: {rules.directory}: {len(RULE_FILES) + 4} rule files OK "
         f"({len(rules.events)} events, {len(rules.motions)} motion classes, "
         f"{len(rules.operations)} operations, {len(rules.transitions)} transitions, "
         f"{sum(len(r) for r in rules.redirections.values())} redirections, "

@@ -16,10 +16,11 @@ from functools import lru_cache
 from pathlib import Path
 
 from lark import Lark, Token, Tree
-from lark.exceptions import GrammarError, LarkError, UnexpectedEOF, UnexpectedInput
+from lark.exceptions import UnexpectedEOF, UnexpectedInput
 from lark.lexer import Lexer
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import lark_grammar, read_text, shorten
 from lbw_engine.rules.analysis import AnalysisRules
 from lbw_engine.understand.actions import ActionSequence, Operation
 from lbw_engine.understand.state import Member, Operator, make_operator
@@ -74,17 +75,9 @@ class Templates:
 def _compile(grammar_file: Path, mtime: float, start: str) -> Templates:
     """Compile (and cache) the template grammar; ambiguity is a load-time error."""
     del mtime  # part of the cache key only: an edited file is recompiled
-    try:
-        text = grammar_file.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot read the template grammar ({exc.__class__.__name__})",
-                         file=grammar_file) from None
-    try:
-        parser = Lark(text, parser="lalr", lexer=WordLexer, start=start, strict=True,
-                      keep_all_tokens=True)
-    except (GrammarError, LarkError) as exc:
-        first = str(exc).strip().splitlines()[0]
-        raise InputError(f"bad template grammar: {first}", file=grammar_file) from None
+    text = read_text(grammar_file, expected="a Lark grammar")
+    parser = lark_grammar(text, grammar_file, "template grammar", parser="lalr",
+                          lexer=WordLexer, start=start, strict=True, keep_all_tokens=True)
     shown = {t.name: (t.pattern.value if t.pattern.type == "str" else f"/{t.pattern.value}/")
              for t in parser.terminals}
     return Templates(parser, shown, grammar_file)
@@ -99,7 +92,7 @@ def load_templates(rules: AnalysisRules) -> Templates:
     defined = {r.origin.name for r in tpl.parser.rules}
     for rule in [*rules.operators, *rules.removed]:
         if rule not in defined:
-            raise InputError(f"analysis.yaml names the rule {rule!r}, which {path.name} "
+            raise InputError(f"analysis.yaml names the rule {shorten(rule)}, which {path.name} "
                              "does not define", file=rules.file, where="templates")
     return tpl
 
@@ -174,7 +167,7 @@ def build_step1(
         """One operator for a rule of the table; its plot is its members in order."""
         parts = members(node)
         if not parts:
-            raise InputError(f"template rule {node.data!r} matched no operation",
+            raise InputError(f"template rule {shorten(node.data)} matched no operation",
                              file=rules.grammar_file)
         plot = parts[0] if len(parts) == 1 else ("$sequence", *parts)
         return make_operator(rules.operators[node.data], plot, parts, rules.agents, rules.fixed)
