@@ -14,6 +14,7 @@ from typing import Any
 
 from lbw_engine import yamlio
 from lbw_engine.errors import InputError
+from lbw_engine.guard import Place, number, shorten
 from lbw_engine.paths import default_rules_dir
 
 # The operator classes of plan.json (design.md); Sec. VI-A3 gives them a priori.
@@ -67,7 +68,8 @@ class _Checker:
         """``data[key]`` is a non-empty string."""
         value = data.get(key)
         if not isinstance(value, str) or not value:
-            self.fail(f"must be a name, got {value!r}", data, key, f"{where}.{key}".lstrip("."))
+            self.fail(f"must be a name, got {shorten(value)}", data, key,
+                      f"{where}.{key}".lstrip("."))
         return value
 
     def names(self, data: dict, key: str, where: str) -> list[str]:
@@ -92,7 +94,8 @@ class _Checker:
         """``data[key]`` is one of ``allowed``."""
         value = self.name(data, key, where)
         if value not in allowed:
-            self.fail(f"{value!r} is not one of {', '.join(allowed)}", data, key, f"{where}.{key}")
+            self.fail(f"{shorten(value)} is not one of {', '.join(allowed)}", data, key,
+                      f"{where}.{key}")
         return value
 
 
@@ -113,7 +116,7 @@ def load_rules(rules_dir: str | Path | None = None) -> AnalysisRules:
     for rule, cls in ops.items():
         if cls not in PLAN_CLASSES:
             c.fail(
-                f"class {cls!r} is not one of {', '.join(PLAN_CLASSES)}",
+                f"class {shorten(cls)} is not one of {', '.join(PLAN_CLASSES)}",
                 ops,
                 rule,
                 f"templates.operators.{rule}",
@@ -125,15 +128,15 @@ def load_rules(rules_dir: str | Path | None = None) -> AnalysisRules:
     objs = c.mapping(data, "objects", "")
     c.known_keys(objs, ("agents", "fixed"), "objects")
     tol = data.get("position_tolerance")
-    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or tol < 0:
-        c.fail("must be a number of mm >= 0", data, "position_tolerance", "position_tolerance")
+    tol = number(tol, Place(file, yamlio.line_of(data, "position_tolerance"),
+                            "position_tolerance"), 0, unit="mm")
     dep = c.mapping(data, "dependencies", "")
     c.known_keys(dep, ("passes", "closure_class", "protected_class"), "dependencies")
     passes = c.names(dep, "passes", "dependencies")
     for i, kind in enumerate(passes):
         if kind not in RELATION_KINDS:
             c.fail(
-                f"pass {kind!r} is not one of {', '.join(RELATION_KINDS)}",
+                f"pass {shorten(kind)} is not one of {', '.join(RELATION_KINDS)}",
                 dep["passes"],
                 i,
                 f"dependencies.passes[{i}]",

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import Place, number, shorten
 from lbw_engine.yamlio import line_of, load_file
 
 
@@ -154,17 +155,16 @@ class _Ctx:
             raise self.fail("must be a mapping", m, None, where)
         for k in m:
             if k not in allowed:
-                raise self.fail(f"unknown key '{k}' (allowed: {', '.join(sorted(allowed))})",
+                raise self.fail(f"unknown key {shorten(k)} (allowed: {', '.join(sorted(allowed))})",
                                 m, k, f"{where}.{k}".lstrip("."))
         for k in sorted(required - set(m)):
-            raise self.fail(f"missing required key '{k}'", m, None, where)
+            raise self.fail(f"missing required key {shorten(k)}", m, None, where)
 
-    def number(self, m: Any, k: Any, where: str) -> float:
-        """A real number at m[k]."""
-        v = m[k]
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise self.fail("must be a number", m, k, where)
-        return float(v)
+    def number(self, m: Any, k: Any, where: str, low: float | None = None,
+               high: float | None = None, *, above: bool = False) -> float:
+        """A finite real number at m[k], within [low, high] (``above``: > low) when given."""
+        return number(m[k], Place(self.file, line_of(m, k), where), low, high, above=above,
+                      unit="mm" if low is not None or high is not None else "")
 
     def vector(self, m: Any, k: Any, n: int, where: str) -> tuple[float, ...]:
         """A list of n numbers at m[k]."""
@@ -180,7 +180,7 @@ class _Ctx:
             raise self.fail("must be a list of names", m, k, where)
         for i, s in enumerate(v):
             if allowed is not None and s not in allowed:
-                raise self.fail(f"unknown name '{s}' (allowed: {', '.join(allowed)})",
+                raise self.fail(f"unknown name {shorten(s)} (allowed: {', '.join(allowed)})",
                                 v, i, f"{where}[{i}]")
         return tuple(v)
 
@@ -215,17 +215,12 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
     _check_calls(cx, macros, operations)
     return CommandRules(
         arm_frame=frame,
-        approach_height=cx.number(doc, "approach_height", "approach_height"),
+        approach_height=cx.number(doc, "approach_height", "approach_height", 0, above=True),
         home=cx.vector(doc, "home", 3, "home"),
         skip_null_moves=skip,
         jaw_axis=JAW_AXES[jaw],
-        margin=cx.number(doc["gripper"], "margin", "gripper.margin"),
-        tip=cx.number(doc["gripper"], "tip", "gripper.tip"),
-        finger=cx.vector(doc["gripper"], "finger", 3, "gripper.finger"),
-        jaw_clearance=cx.number(doc["gripper"], "clearance", "gripper.clearance"),
-        tip_clearance=cx.number(doc["gripper"], "tip_clearance", "gripper.tip_clearance"),
-        max_below_top=cx.number(doc["gripper"], "max_below_top", "gripper.max_below_top"),
-        release_clearance=(cx.number(doc, "release_clearance", "release_clearance")
+        **_gripper(cx, doc["gripper"]),
+        release_clearance=(cx.number(doc, "release_clearance", "release_clearance", 0)
                            if "release_clearance" in doc else 0.0),
         support_relations=cx.names(doc, "support_relations", "support_relations"),
         focus_relations=cx.names(doc["focus"], "relations", "focus.relations"),
@@ -234,11 +229,28 @@ def parse(doc: Any, file: str = "<string>") -> CommandRules:
         macros=macros,
         file=file,
         labels=_labels(cx, doc, operations),
-        balance_margin=(cx.number(doc, "balance_margin", "balance_margin")
+        balance_margin=(cx.number(doc, "balance_margin", "balance_margin", 0)
                         if "balance_margin" in doc else 0.0),
-        steady_margin=(cx.number(doc, "steady_margin", "steady_margin")
+        steady_margin=(cx.number(doc, "steady_margin", "steady_margin", 0)
                        if "steady_margin" in doc else 0.0),
     )
+
+
+def _gripper(cx: _Ctx, raw: Any) -> dict[str, Any]:
+    """The gripper's sizes (mm): a finger and the tip have a size > 0; margins and
+    clearances are >= 0 (-0.0 is no finger: execution could not verify)."""
+    def size(key: str) -> float:
+        return cx.number(raw, key, f"gripper.{key}", 0, above=True)
+
+    def gap(key: str) -> float:
+        return cx.number(raw, key, f"gripper.{key}", 0)
+
+    finger = cx.vector(raw, "finger", 3, "gripper.finger")
+    for i in range(3):
+        cx.number(raw["finger"], i, f"gripper.finger[{i}]", 0, above=True)
+    return {"margin": gap("margin"), "tip": size("tip"), "finger": finger,
+            "jaw_clearance": gap("clearance"), "tip_clearance": gap("tip_clearance"),
+            "max_below_top": size("max_below_top")}
 
 
 def _labels(cx: _Ctx, doc: Any, operations: dict[str, OperationRule]) -> dict[str, str]:
@@ -249,7 +261,7 @@ def _labels(cx: _Ctx, doc: Any, operations: dict[str, OperationRule]) -> dict[st
     out = {}
     for label, op in raw.items():
         if not isinstance(label, str) or op not in operations:
-            raise cx.fail(f"'{op}' is not an operation of this file", raw, label,
+            raise cx.fail(f"{shorten(op)} is not an operation of this file", raw, label,
                           f"labels.{label}")
         out[label.upper()] = op
     return out
@@ -304,12 +316,12 @@ def _macros(cx: _Ctx, raw: Any) -> dict[str, Macro]:
     for name, body in raw.items():
         w = f"macros.{name}"
         if name in PRIMITIVES or name in GLOBALS:
-            raise cx.fail(f"'{name}' is a built-in name and cannot be a macro", raw, name, w)
+            raise cx.fail(f"{shorten(name)} is a built-in name and cannot be a macro", raw, name, w)
         cx.keys(body, {"params", "steps"}, w, {"params", "steps"})
         params = cx.names(body, "params", f"{w}.params")
         for p in params:
             if p in GLOBALS:
-                raise cx.fail(f"parameter '{p}' hides a global name", body, "params", w)
+                raise cx.fail(f"parameter {shorten(p)} hides a global name", body, "params", w)
         out[name] = Macro(name, params, _steps(cx, body, "steps", f"{w}.steps"), line_of(raw, name))
     return out
 
@@ -340,15 +352,16 @@ def _check_calls(cx: _Ctx, macros: dict[str, Macro], ops: dict[str, OperationRul
             elif s.name in macros:
                 arity = len(macros[s.name].params)
             else:
-                raise InputError(f"unknown macro or primitive '{s.name}'", file=cx.file,
+                raise InputError(f"unknown macro or primitive {shorten(s.name)}", file=cx.file,
                                  line=s.line, where=where)
             if len(s.args) != arity:
-                raise InputError(f"'{s.name}' takes {arity} argument(s), got {len(s.args)}",
+                raise InputError(f"{shorten(s.name)} takes {arity} argument(s), got {len(s.args)}",
                                  file=cx.file, line=s.line, where=where)
             for a in s.args:
                 for n in (a,) if isinstance(a, str) else a:
                     if n not in scope and n not in GLOBALS:
-                        raise InputError(f"unknown name '{n}' in the arguments of '{s.name}'",
+                        raise InputError(f"unknown name {shorten(n)} in the arguments of "
+                                         f"{shorten(s.name)}",
                                          file=cx.file, line=s.line, where=where)
     for m in macros.values():
         check(m.steps, set(m.params), f"macros.{m.name}")

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import Place, number, shorten
 from lbw_engine.yamlio import line_of
 
 
@@ -43,7 +44,7 @@ class Reader:
         for key in data:
             if key not in allowed:
                 names = listing(sorted(allowed)) or "none"
-                self.fail(f"unknown key {key!r} in {what} (allowed: {names})", data, key)
+                self.fail(f"unknown key {shorten(key)} in {what} (allowed: {names})", data, key)
         for key in required:
             if key not in data:
                 self.fail(f"{what} lacks the required key {key!r}", data)
@@ -54,21 +55,20 @@ class Reader:
         if value is True:
             self.fail(f"{what} {key!r} reads as a boolean; quote the name", data, key)
         if not isinstance(value, str) or not value:
-            self.fail(f"{what} {key!r} must be a name, got {value!r}", data, key)
+            self.fail(f"{what} {key!r} must be a name, got {shorten(value)}", data, key)
         return value
 
-    def number(self, data: dict, key: str, what: str) -> float:
-        """``data[key]`` must be a number."""
-        value = data.get(key)
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            self.fail(f"{what} {key!r} must be a number, got {value!r}", data, key)
-        return float(value)
+    def number(self, data: dict, key: str, what: str, low: float | None = None,
+               high: float | None = None, *, above: bool = False, unit: str = "") -> float:
+        """``data[key]`` must be a finite number, within [low, high] when given."""
+        place = Place(self.file, line_of(data, key), f"{what} {key!r}")
+        return number(data.get(key), place, low, high, above=above, unit=unit)
 
     def one_of(self, value: Any, allowed: Any, what: str, container: Any, key: Any) -> Any:
         """``value`` must be in ``allowed`` (a collection of names)."""
         if value not in allowed:
             names = listing(sorted(str(a) for a in allowed))
-            self.fail(f"{what} {value!r} does not exist (known: {names})", container, key)
+            self.fail(f"{what} {shorten(value)} does not exist (known: {names})", container, key)
         return value
 
 
