@@ -44,8 +44,16 @@ class OutputDir:
         self._staging: Path | None = None
 
     def __enter__(self) -> OutputDir:
-        self.dest.mkdir(parents=True, exist_ok=True)
-        self._staging = Path(tempfile.mkdtemp(prefix=".lbw-staging-", dir=self.dest))
+        try:
+            self.dest.mkdir(parents=True, exist_ok=True)
+            self._staging = Path(tempfile.mkdtemp(prefix=".lbw-staging-", dir=self.dest))
+        except OSError as exc:  # --out names a file, or a folder lbw may not write to
+            from lbw_engine.errors import InputError
+
+            what = "is a file" if self.dest.is_file() else \
+                f"cannot be made ({(exc.strerror or exc.__class__.__name__).lower()})"
+            raise InputError(f"the output folder {what}; expected a folder lbw can write to",
+                             file=self.dest) from None
         return self
 
     def path(self, name: str) -> Path:
