@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from lbw_engine import rules as R
+from lbw_engine.guard import Place, number
 from lbw_engine.rules.reader import Reader
 from lbw_engine.yamlio import line_of, load_file
 
@@ -337,6 +338,9 @@ def _redirections(directory: Path) -> dict[str, tuple[R.RedirectionRow, ...]]:
     return {m: tuple(rs) for m, rs in out.items()}
 
 
+REGION_MAX = 600.0  # mm: no attention region is wider than the table (design.md workspace)
+
+
 def _constants(directory: Path) -> dict[str, Any]:
     reader, data = _top(
         directory,
@@ -354,8 +358,11 @@ def _constants(directory: Path) -> dict[str, Any]:
         ),
     )
     region = reader.sequence(data["attention-region"], "attention-region", data, "attention-region")
-    if len(region) != 3 or not all(isinstance(v, int | float) and v > 0 for v in region):
+    if len(region) != 3:
         reader.fail("attention-region must be three sizes in mm", data, "attention-region")
+    for i in range(3):  # a window beyond the workspace broke the visual search (issue #15)
+        number(region[i], Place(reader.file, line_of(region, i), f"attention-region[{i}]"),
+               0, REGION_MAX, above=True, unit="mm")
     for key in ("search-cycle-limit", "detect-passes-per-frame"):
         if not isinstance(data[key], int) or isinstance(data[key], bool) or data[key] < 1:
             reader.fail(f"{key} must be a whole number >= 1", data, key)
