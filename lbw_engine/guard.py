@@ -22,8 +22,8 @@ from __future__ import annotations
 import json
 import math
 import re
-import reprlib
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -37,28 +37,6 @@ MAX_DIGITS = 18  # digits of an integer: no size, count or seed of lbw has more
 SHOWN = 80  # characters of an offending value shown in a message
 
 
-class _Short(reprlib.Repr):
-    """``repr`` that stays short for huge, deep or shared (aliased) values."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.maxlevel, self.maxlist, self.maxdict, self.maxtuple = 3, 6, 4, 6
-        self.maxstring, self.maxother = SHOWN, SHOWN
-
-    def repr1(self, x: Any, level: int) -> str:
-        # The loaders' LocDict / LocList are dict / list subclasses, which reprlib
-        # would hand to the builtin repr in full.
-        if isinstance(x, bool) or x is None:
-            return repr(x)
-        if isinstance(x, dict):
-            return self.repr_dict(x, level)
-        if isinstance(x, list):
-            return self.repr_list(x, level)
-        if isinstance(x, int):
-            return _int_text(x)
-        return super().repr1(x, level)
-
-
 def _int_text(x: int) -> str:
     """An integer, or its size when it is too long to print (str() may refuse it)."""
     if x.bit_length() <= 64:
@@ -66,14 +44,40 @@ def _int_text(x: int) -> str:
     return f"<an integer of about {int(x.bit_length() * math.log10(2)) + 1} digits>"
 
 
-_SHORT = _Short()
+def _pieces(value: Any, limit: int, depth: int = 0) -> Iterator[str]:
+    """The repr of ``value`` piece by piece, so a huge or aliased value is never
+    printed whole (an alias bomb of a few kB expands to millions of items)."""
+    if depth > 20:
+        yield "..."
+    elif isinstance(value, dict):
+        yield "{"
+        for i, (key, item) in enumerate(value.items()):
+            yield ", " if i else ""
+            yield from _pieces(key, limit, depth + 1)
+            yield ": "
+            yield from _pieces(item, limit, depth + 1)
+        yield "}"
+    elif isinstance(value, (list, tuple)):
+        yield "["
+        for i, item in enumerate(value):
+            yield ", " if i else ""
+            yield from _pieces(item, limit, depth + 1)
+        yield "]"
+    elif isinstance(value, int) and not isinstance(value, bool):
+        yield _int_text(value)
+    elif isinstance(value, str):
+        yield repr(value[: limit + 1])
+    else:
+        yield repr(value)[: limit + 1]
 
 
 def shorten(value: Any, limit: int = SHOWN) -> str:
-    """``value`` as a one-line repr of at most about ``limit`` characters."""
-    text = _SHORT.repr(value) if not isinstance(value, str) else repr(value)
-    if len(text) > limit:
-        text = text[: limit - 1] + "…"
+    """``value`` as a one-line repr of at most ``limit`` characters (cut with "…")."""
+    text = ""
+    for piece in _pieces(value, limit):
+        text += piece
+        if len(text) > limit:
+            return text[: limit - 1] + "…"
     return text
 
 
