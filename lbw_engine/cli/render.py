@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import MAX_FPS, Place, number
 from lbw_engine.outputs import OutputDir
 
 HELP = "render a scenario's demonstration to DIR/demonstration.mp4 (top | side views)"
@@ -29,8 +30,9 @@ def run(args: argparse.Namespace) -> int:
     from perception.world.render import Renderer
     from perception.world.scenario import load
 
-    if args.fps <= 0 or args.size < 16:
-        raise InputError("--fps must be positive and --size at least 16", where="arguments")
+    number(args.fps, Place(where="--fps"), 0, MAX_FPS, above=True, unit="frames per second")
+    if not 16 <= args.size <= 4096:
+        raise InputError(f"expected 16-4096 pixels, got {args.size}", where="--size")
     scenario = load(Path(args.scenario))
     demo = Demonstration(scenario, fps=args.fps)
     renderer = Renderer(default_cameras(args.size), pixel_noise=scenario.noise.pixel,
