@@ -9,7 +9,7 @@ hung cases and the time per case, then the failing cases.
 
     .venv/bin/python -m bench fuzz                          # 2,000 cases, seed 1
     .venv/bin/python -m bench fuzz --count 10000 --jobs 2
-    .venv/bin/python -m bench fuzz --kinds plan --simulate  # plans run the robot too
+    .venv/bin/python -m bench fuzz --kinds plan,scenario --count 60 --simulate  # in full
     .venv/bin/python -m bench fuzz --kinds scenario --seed 1 --only 123   # one case
 """
 
@@ -90,7 +90,8 @@ def main(argv: list[str]) -> dict[str, Any]:
     parser.add_argument("--kinds", default=",".join(KINDS), help="comma-separated kinds")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--simulate", action="store_true",
-                        help="plan cases that pass the checks run the robot in the world")
+                        help="accepted scenarios are watched and plans executed in full "
+                             "(slow: seconds to a minute a case)")
     parser.add_argument("--only", type=int, default=None, help="run only case number ONLY")
     args = parser.parse_args(argv)
     kinds = tuple(k for k in args.kinds.split(",") if k)

@@ -30,9 +30,9 @@ from typing import Any
 
 from lbw_engine.errors import InputError
 
-MAX_BYTES = 64 * 1024 * 1024  # an input file; the largest real ones are a few MB
+MAX_BYTES = 64 * 1024 * 1024  # an input file; actions.json of 10,000 ACHIEVEs: 15 MB
 MAX_DEPTH = 100  # nesting of lists and mappings; real files nest under 12 deep
-MAX_NODES = 100_000  # YAML values once aliases are expanded (alias bombs); rules: ~3,000
+MAX_NODES = 100_000  # YAML values once aliases are expanded (alias bombs); a rule file: <300
 MAX_DIGITS = 18  # digits of an integer: no size, count or seed of lbw has more
 SHOWN = 80  # characters of an offending value shown in a message
 MAX_FPS = 1000.0  # --fps: nan or inf passed "> 0" and never ended
