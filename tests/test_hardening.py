@@ -25,6 +25,7 @@ DATA = ROOT / "tests" / "data"
 SCENARIO = ROOT / "scenarios" / "build-table.yaml"
 ACTIONS = DATA / "fig20-build-table.actions.json"
 PLAN = DATA / "build-table.plan.json"
+TRACE = ROOT / "lbw_engine" / "data" / "build-table.trace.jsonl"
 HUGE = "9" * 400
 
 
@@ -78,6 +79,15 @@ def raw(command: str, name: str, content: str | bytes):
         if command == "execute":
             return ["execute", str(path), str(SCENARIO), "--out", str(tmp / "out")]
         return ["analyze", str(path), "--out", str(tmp / "out")]
+    return build
+
+
+def trace(edit: Callable[[str], str]):
+    """``lbw recognize`` on an edited copy of the bundled event trace."""
+    def build(tmp: Path) -> list[str]:
+        path = tmp / "trace.jsonl"
+        path.write_text(edit(TRACE.read_text()))
+        return ["recognize", str(path), "--out", str(tmp / "out")]
     return build
 
 
@@ -168,6 +178,22 @@ ROWS = [
      rules("commands.yaml", text(lambda t: _replace(t, "finger: [10.0, 20.0, 50.0]",
                                                     "finger: [10.0, -0.0, 50.0]"))),
      2, "gripper.finger[1]: expected a number > 0 mm, got -0"),
+    # Found by `python -m bench fuzz --count 10000` (seed 1) after the fixes above.
+    ("fuzz-effects-move-number",
+     rules("effects.yaml", text(lambda t: _replace(t, "move: {follow: $hand,",
+                                                   "move: {follow: 0.5,"))),
+     2, "0.5 is neither a variable ($name) nor '*'"),
+    ("fuzz-events-detector-mapping",
+     rules("events.yaml", text(lambda t: _replace(t, "detector: motion-detector",
+                                                  "detector: {a: 1}"))),
+     2, "detector {'a': 1} does not exist"),
+    ("fuzz-transition-next-list",
+     rules("transitions.yaml", text(lambda t: _replace(t, "next: Task,", "next: [x],"))),
+     2, "Table VII row 'next' must be a name, got ['x']"),
+    ("fuzz-trace-positions-string",
+     trace(lambda t: _replace(t, '"positions": {"hand": [250.0, 350.0, 200.0]}',
+                              '"positions": ""')),
+     2, "trace.jsonl:3: 'positions' must map names to [x, y, z]"),
 ]
 
 

@@ -149,7 +149,7 @@ def _operations(directory: Path, events, motions):
         if source == "snapshot-diff":
             if "detector" not in spec or "values" not in spec:
                 reader.fail(f"feature {name!r} needs a detector and its values", table, name)
-            detector = spec["detector"]
+            detector = reader.name(spec, "detector", f"feature {name!r}")
             values = tuple(reader.sequence(spec["values"], "values", spec, "values"))
         elif source == "final-event":
             values = tuple(events)
@@ -231,6 +231,8 @@ def _effects(directory: Path):
         directory, "effects.yaml", ("relations", "hold-relation", "support-relations", "operations")
     )
     relations = tuple(reader.sequence(data["relations"], "relations", data, "relations"))
+    for index in range(len(relations)):  # names: they are looked up in sets and tables
+        reader.name(data["relations"], index, "relation")
     hold = reader.one_of(data["hold-relation"], relations, "relation", data, "hold-relation")
     support = tuple(
         reader.sequence(data["support-relations"], "support-relations", data, "support-relations")
@@ -289,7 +291,7 @@ def _transitions(directory: Path) -> dict[tuple[str, str], R.TransitionRow]:
         motion = reader.name(row, "motion", "Table VII row")
         key = reader.name(row, "event", "Table VII row")
         direction = reader.one_of(row["transition"], R.DIRECTIONS, "transition", row, "transition")
-        nxt = row.get("next")
+        nxt = reader.name(row, "next", "Table VII row") if row.get("next") is not None else None
         if (direction in ("next", "down")) != (nxt is not None):
             reader.fail(
                 f"a {direction!r} transition {'needs' if nxt is None else 'takes no'} 'next'",

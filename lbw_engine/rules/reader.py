@@ -49,27 +49,34 @@ class Reader:
             if key not in data:
                 self.fail(f"{what} lacks the required key {key!r}", data)
 
-    def name(self, data: dict, key: str, what: str) -> str:
-        """``data[key]`` must be a non-empty string."""
-        value = data.get(key)
+    def name(self, data: dict | list, key: str | int, what: str) -> str:
+        """``data[key]`` (a mapping's key or a list's index) must be a non-empty string."""
+        value = _get(data, key)
         if value is True:
             self.fail(f"{what} {key!r} reads as a boolean; quote the name", data, key)
         if not isinstance(value, str) or not value:
             self.fail(f"{what} {key!r} must be a name, got {shorten(value)}", data, key)
         return value
 
-    def number(self, data: dict, key: str, what: str, low: float | None = None,
+    def number(self, data: dict | list, key: str | int, what: str, low: float | None = None,
                high: float | None = None, *, above: bool = False, unit: str = "") -> float:
         """``data[key]`` must be a finite number, within [low, high] when given."""
         place = Place(self.file, line_of(data, key), f"{what} {key!r}")
-        return number(data.get(key), place, low, high, above=above, unit=unit)
+        return number(_get(data, key), place, low, high, above=above, unit=unit)
 
     def one_of(self, value: Any, allowed: Any, what: str, container: Any, key: Any) -> Any:
         """``value`` must be in ``allowed`` (a collection of names)."""
-        if value not in allowed:
+        if isinstance(value, (dict, list)) or value not in allowed:  # lists are unhashable
             names = listing(sorted(str(a) for a in allowed))
             self.fail(f"{what} {shorten(value)} does not exist (known: {names})", container, key)
         return value
+
+
+def _get(data: dict | list, key: Any) -> Any:
+    """``data[key]`` of a mapping or a list; None when absent."""
+    if isinstance(data, list):
+        return data[key] if isinstance(key, int) and 0 <= key < len(data) else None
+    return data.get(key)
 
 
 def listing(items: Any, sep: str = ", ") -> str:

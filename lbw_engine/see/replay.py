@@ -168,7 +168,7 @@ def _check_record(path, line: int, data: dict, rules: RuleSet) -> Record:
             raise bad(f"{shorten(key)} must be a list of names")
     if "velocity" in data:
         _vec(path, line, data["velocity"], "'velocity'")
-    positions = data.get("positions") or {}
+    positions = data.get("positions", {})
     if not isinstance(positions, dict):
         raise bad("'positions' must map names to [x, y, z]")
     for name, pos in positions.items():
