@@ -177,10 +177,10 @@ def number(value: Any, place: Place, low: float | None = None, high: float | Non
 
 
 def _range(low: float | None, high: float | None, unit: str, above: bool) -> str:
-    """' in 10-200 mm', ' > 0 mm', ' <= 5 s' or ''."""
+    """' in [10, 200] mm', ' > 0 mm', ' <= 5 s' or ''."""
     u = f" {unit}" if unit else ""
     if low is not None and high is not None and not above:
-        return f" in {low:g}-{high:g}{u}"
+        return f" in [{low:g}, {high:g}]{u}"
     lower = f" {'>' if above else '>='} {low:g}" if low is not None else ""
     upper = f" <= {high:g}" if high is not None else ""
     both = " and" if lower and upper else ""
