@@ -161,12 +161,10 @@ class _Ctx:
             raise self.fail(f"missing required key {shorten(k)}", m, None, where)
 
     def number(self, m: Any, k: Any, where: str, low: float | None = None,
-               high: float | None = None, *, above: bool = False, unit: str = "") -> float:
-        """A finite real number at m[k], within [low, high] (``above``: > low) when given;
-        ``unit`` defaults to mm when there is a range (" " for none)."""
-        unit = unit or ("mm" if low is not None or high is not None else "")
+               high: float | None = None, *, above: bool = False) -> float:
+        """A finite real number at m[k], within [low, high] (``above``: > low) when given."""
         return number(m[k], Place(self.file, line_of(m, k), where), low, high, above=above,
-                      unit=unit.strip())
+                      unit="mm" if low is not None or high is not None else "")
 
     def vector(self, m: Any, k: Any, n: int, where: str) -> tuple[float, ...]:
         """A list of n numbers at m[k]."""
@@ -276,8 +274,10 @@ def _arm_frame(cx: _Ctx, raw: Any) -> ArmFrame:
     if not isinstance(rot, list) or len(rot) != 3:
         raise cx.fail("must be a 3×3 matrix (three rows)", raw, "rotation", "arm_frame.rotation")
     rows = tuple(cx.vector(rot, i, 3, f"arm_frame.rotation[{i}]") for i in range(3))
-    for i, j in np.ndindex(3, 3):  # an orthonormal matrix has no entry beyond ±1
-        cx.number(rot[i], j, f"arm_frame.rotation[{i}][{j}]", -1.0, 1.0, unit=" ")
+    for i, j in np.ndindex(3, 3):  # tested first: 1e300 overflows the product below
+        if abs(rows[i][j]) > 1:
+            raise cx.fail(f"must be orthonormal: an entry of {rows[i][j]:g} is beyond ±1",
+                          rot[i], j, f"arm_frame.rotation[{i}][{j}]")
     if not np.allclose(np.asarray(rows) @ np.asarray(rows).T, np.eye(3), atol=1e-3):
         raise cx.fail("must be orthonormal (rows of unit length, at right angles)",
                       raw, "rotation", "arm_frame.rotation")
