@@ -238,3 +238,56 @@ SHORTEN = [  # (value, expected text or prefix) — values printed in messages
                                                           "alias-bomb", "newline"])
 def test_shorten(value, expected):
     assert shorten(value) == expected
+
+
+def _unreadable(path: Path, monkeypatch) -> None:
+    """Root reads every file, so a permission error is simulated."""
+    def refuse(self, *args, **kwargs):
+        raise PermissionError(13, "Permission denied")
+    monkeypatch.setattr(Path, "open", refuse)
+
+
+READ = [  # (case, file content or None, set-up, message fragment) for guard.read_text
+    ("missing", None, None, "x.json: file not found"),
+    ("unreadable", b"{}", _unreadable, "cannot read the file: permission denied"),
+    ("too-large", b"[" + b"0," * 40 + b"0]", "limit", "larger than 0 MB, the most lbw reads"),
+    ("bad-utf8-line", b'{"a":\n "\xc3\x28"}', None, "x.json:2: not UTF-8 text: byte 0xc3"),
+]
+
+
+@pytest.mark.parametrize("content,setup,fragment", [r[1:] for r in READ],
+                         ids=[r[0] for r in READ])
+def test_read_text_errors(tmp_path, monkeypatch, content, setup, fragment):
+    from lbw_engine import guard
+    from lbw_engine.errors import InputError
+
+    path = tmp_path / "x.json"
+    if content is not None:
+        path.write_bytes(content)
+    if setup == "limit":
+        monkeypatch.setattr(guard, "MAX_BYTES", 16)
+    elif setup is not None:
+        setup(path, monkeypatch)
+    with pytest.raises(InputError) as info:
+        guard.read_text(path)
+    assert fragment in str(info.value)
+
+
+JSON = [  # (case, JSON text, message fragment) for guard.json_document
+    ("NaN", '{"a": NaN}', "NaN is not a number; expected a finite number"),
+    ("overflowing-float", '{"a": [1,\n 1e999]}', ":2: the number 1e999 is too large"),
+    ("long-integer", '{"a": ' + "9" * 5000 + "}", "an integer of 5000 digits; expected at most 18"),
+    ("duplicate-key", '{"a": 1, "a": 2}', "duplicate key 'a' in one object"),
+    ("101-deep", "[" * 101 + "]" * 101, "nested more than 100 levels deep"),
+    ("syntax", '{"a": }', "invalid JSON: Expecting value at column 7"),
+]
+
+
+@pytest.mark.parametrize("text,fragment", [r[1:] for r in JSON], ids=[r[0] for r in JSON])
+def test_json_document_errors(text, fragment):
+    from lbw_engine.errors import InputError
+    from lbw_engine.guard import json_document
+
+    with pytest.raises(InputError) as info:
+        json_document(text, "x.json")
+    assert fragment in str(info.value)
