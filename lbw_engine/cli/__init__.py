@@ -8,8 +8,10 @@ ADDRESS. ``SUBCOMMANDS`` is the
 closed registry; modules are imported only when their command runs, so
 ``lbw check`` never loads the simulator.
 
-Exit codes (design.md): 0 success, 1 the task failed, 2 bad input. Errors
-derived from ``LbwError`` print one sentence and no traceback. A command that
+Exit codes (design.md): 0 success, 1 the task failed, 2 bad input, 3 an
+internal error. Errors derived from ``LbwError`` print one sentence and no
+traceback; any other exception is a bug, reported in one line naming the crash
+file that holds its traceback (``crash.py``). A command that
 fails its task returns 1 *after* its output files are published; bad input
 raises ``InputError`` inside ``OutputDir`` so nothing half-written is left.
 
@@ -94,6 +96,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exc.exit_code
     except KeyboardInterrupt:
         return 130
+    except Exception as exc:  # the last resort (design.md exit 3): never a traceback
+        from lbw_engine.cli import crash
+
+        given = list(argv) if argv is not None else sys.argv[1:]
+        return crash.report(args.command, given, getattr(args, "out", None), exc)
     return int(code or 0)
 
 

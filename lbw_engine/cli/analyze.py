@@ -73,7 +73,8 @@ def _repaired(args: argparse.Namespace) -> tuple[Any, Any]:
 
     rules = load_rules(args.rules)
     doc = read_actions(args.actions)
-    parse_actions(doc, RelationTable(rules.analysis.tolerance), str(args.actions))  # bad input
+    parse_actions(doc, RelationTable(rules.analysis.tolerance), str(args.actions),
+                  rules.hold_relation)  # bad input
     repaired = repair_actions(doc, rules)
     seq = parse_actions(repaired.actions, RelationTable(rules.analysis.tolerance),
                         str(args.actions))

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 
 from lbw_engine.rules import RULE_FILES, check_detectors, load_rules
+from lbw_engine.understand.plottext import check_grammar as check_plot_grammar
 
 HELP = "validate rule files (exit 2 with file:line on the first problem)"
 EXIT_CODES = ("0 the rule files are valid; 2 a rule file is bad (one line: file, line, what is "
@@ -29,6 +30,8 @@ def run(args: argparse.Namespace) -> int:
 
     rules = load_rules(args.rules_dir)
     check_detectors(rules, vocabulary())
+    # plot.lark must read back what lbw writes to plan.txt (it compiled when loading)
+    check_plot_grammar(rules.analysis.plot_grammar_file, rules.roles.multiple)
     commands = rules.commands
     print(
         f"lbw check: {rules.directory}: {len(RULE_FILES)} rule files OK "

@@ -12,7 +12,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from lbw_engine.errors import InputError
+from lbw_engine.guard import MAX_FPS, Place, number
 from lbw_engine.outputs import OutputDir
 from lbw_engine.pipeline.watch import repair, watch
 from lbw_engine.rules import load_rules
@@ -38,8 +38,7 @@ def run(args: argparse.Namespace) -> int:
     does not verify against the scenario's demonstration."""
     from perception.world.scenario import load
 
-    if args.fps <= 0:
-        raise InputError("--fps must be positive", where="arguments")
+    number(args.fps, Place(where="--fps"), 0, MAX_FPS, above=True, unit="frames per second")
     rules = load_rules(args.rules)
     scenario = load(Path(args.scenario))
     inputs = [args.scenario, *([args.rules] if args.rules else [])]

@@ -231,7 +231,7 @@ def _transitions(directory: Path) -> dict[tuple[str, str], R.TransitionRow]:
         motion = reader.name(row, "motion", "Table VII row")
         key = reader.name(row, "event", "Table VII row")
         direction = reader.one_of(row["transition"], R.DIRECTIONS, "transition", row, "transition")
-        nxt = row.get("next")
+        nxt = reader.name(row, "next", "Table VII row") if row.get("next") is not None else None
         if (direction in ("next", "down")) != (nxt is not None):
             reader.fail(
                 f"a {direction!r} transition {'needs' if nxt is None else 'takes no'} 'next'",

@@ -75,7 +75,7 @@ def test_impossible_workspace_fails_clearly(tmp_path, capsys, execute_yaml, shap
     assert "Traceback" not in err
     for needle in needles:
         assert needle in err
-    assert err.startswith("lbw execute: plan ") and "failed at instantiation: " in err
+    assert err.startswith("lbw execute: plan ") and "failed: instantiation: " in err
     assert err.rstrip().endswith(f"outputs in {out}") and err.count("\n") == 1
     report = json.loads((out / "execution.json").read_text())  # published before exit 1
     assert report["success"] is False and any(n in report["failure"] for n in needles)
