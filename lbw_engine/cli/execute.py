@@ -20,9 +20,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from lbw_engine.do import plan as planmod
+from lbw_engine.do.listing import format_commands
 from lbw_engine.do.matching import Measured, match_initial_state, plan_objects, taught_shapes
 from lbw_engine.do.plan import Plan
-from lbw_engine.do.tracing import Trace, format_commands, trace
+from lbw_engine.do.tracing import Trace, trace
 from lbw_engine.do.verification import ObjectState, verify
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import Body, EnvModel

@@ -85,7 +85,8 @@ def align_goal(focus: str, goal: Vec, other: str, rules: CommandRules,
                model: EnvModel) -> tuple[Vec, Alignment] | None:
     """The taught goal made flush with one face of ``other``, at the taught distance
     from it across the contact (at least ``contact-gap``: never into it); None when
-    the goal is not within ``clearance`` of ``other`` on both counts."""
+    the goal is not within ``clearance`` of ``other`` on both counts, or when the
+    flush spot would run into a third object (the taught spot then stands)."""
     size, p = model.bodies[focus].size, model.bodies[other]
     gaps = [abs(goal[k] - p.position[k]) - (size[k] + p.size[k]) / 2 for k in range(2)]
     contact = 0 if gaps[0] >= gaps[1] else 1  # the axis along which they are apart
@@ -99,9 +100,11 @@ def align_goal(focus: str, goal: Vec, other: str, rules: CommandRules,
         want = p.position[flush] + s * (p.size[flush] - size[flush]) / 2
         faces.append((abs(goal[flush] - want), s, want))
     off, s, out[flush] = min(faces)
-    if gaps[contact] > rules.fine.clearance or off > rules.fine.clearance:
+    spot = (out[0], out[1], out[2])
+    if gaps[contact] > rules.fine.clearance or off > rules.fine.clearance or \
+            not _free(focus, spot, model):
         return None
-    return (out[0], out[1], out[2]), Alignment(focus, other, flush, s, gap)
+    return spot, Alignment(focus, other, flush, s, gap)
 
 
 def plan_place(focus: str, goal: Vec, axis: int, offset: float, rules: CommandRules,

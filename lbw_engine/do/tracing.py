@@ -26,9 +26,9 @@ import copy
 from dataclasses import dataclass, field
 from typing import Any
 
-from lbw_engine.do import fine, grasp, jaws
+from lbw_engine.do import clearing, fine, grasp, jaws
 from lbw_engine.do.balance import steadied, unbalanced
-from lbw_engine.do.expander import Command, Context, Expander, fvec
+from lbw_engine.do.expander import Command, Context, Expander
 from lbw_engine.do.fine import Alignment, PlacePlan
 from lbw_engine.do.plan import Operator, Plan, Relation, action_names
 from lbw_engine.errors import InputError, TaskFailed
@@ -56,6 +56,7 @@ class TracedOp:
     fine: str | None = None  # the place's fine motion: "slide" | "push" (fine.py)
     alignment: Alignment | None = None  # faces the place makes coplanar (verification)
     skipped: str | None = None  # a harmless leaf left out, and why
+    aside: list[tuple[str, int]] = field(default_factory=list)  # set-asides first: why, count
 
 
 @dataclass
@@ -179,9 +180,11 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
         raise TaskFailed(f"{leaf} in {op.name} ({op.cls}): none of its goal sources "
                          f"({', '.join(rule.goal)}) gives a position in this plan")
     ctx = Context(goal, rules.margin, where, model.wrist)
-    steps, place = rule.steps, None
+    steps, place, aside = rule.steps, None, []
     if focus is not None and goal is not None:
         size = model.bodies[focus].size
+        if model.holding() != focus and rule.check_jaws:
+            aside = _set_aside(plan, rules, model, expander, focus, where)
         if model.holding() == focus:
             axis, off = model.grips.get(focus, (rules.jaw_axes[0], 0.0))
             if rule.check_jaws:
@@ -198,12 +201,35 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
             if place.push_from is not None:
                 ctx.fine.update({"push-from": place.push_from, "push-to": place.push_to})
                 ctx.pushed = (focus, goal)
-    cmds = expander.run(steps, ctx)
+    cmds = [c for _, done in aside for c in done] + expander.run(steps, ctx)
     arm_goal = rules.arm_frame.to_arm(ctx.goal) if ctx.goal is not None else None
     return TracedOp(op.name, op.cls, leaf, operation, focus, goal, arm_goal, cmds, moved,
                     wrist=ctx.wrist if focus is not None else None,
                     fine=place.kind if place is not None and place.set_down else None,
-                    alignment=place.alignment if place is not None else None)
+                    alignment=place.alignment if place is not None else None,
+                    aside=[(note, len(done)) for note, done in aside])
+
+
+def _set_aside(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+               focus: str, where: str) -> list[tuple[str, list[Command]]]:
+    """Put each block that rests on ``focus`` unplanned on the table first (clearing.py)."""
+    out = []
+    for name in clearing.unplanned_riders(plan, focus, rules, model):
+        sa = clearing.plan_set_aside(plan, name, rules, model)
+        if sa is None:
+            raise TaskFailed(f"'{name}' rests on '{focus}', which the plan picks up, and "
+                             "there is no free spot on the table to set it aside")
+        size = model.bodies[name].size
+        spot = (sa.spot[0], sa.spot[1], sa.spot[2] + rules.release_clearance)
+        ctx = Context(jaws.tool_point(sa.start, size, sa.axis, sa.offset, rules),
+                      size[sa.axis] + rules.margin, where, 90.0 * sa.axis,
+                      {"set-down": jaws.tool_point(spot, size, sa.axis, sa.offset, rules)})
+        model.grips[name] = (sa.axis, sa.offset)
+        done = expander.run(rules.set_aside, ctx)
+        model.apply((), [clearing.support_on_table(name, rules)])
+        out.append((f"'{name}' rests on '{focus}' where the plan does not put it: set aside "
+                    f"at {_mm(spot)}", done))
+    return out
 
 
 def _place_plan(op: Operator, focus: str, goal: Vec, axis: int, off: float,
@@ -357,38 +383,3 @@ def _check_free(goal: Vec, focus: str, model: EnvModel) -> None:
 def _mm(v: Vec) -> str:
     """A position for messages."""
     return "(" + ", ".join(f"{c:.0f}" for c in v) + ") mm"
-
-
-def format_commands(tr: Trace, title: str = "") -> str:
-    """commands.txt in the manner of Fig. 24: operator, goal, operation, commands."""
-    n = len(tr.commands)
-    lines = [f";;; {title} — {n} manipulator commands (positions in arm coordinates, mm)"
-             if title else f";;; {n} manipulator commands (positions in arm coordinates, mm)"]
-    last_op = last_goal = None
-    for op in tr.ops:
-        if op.skipped:
-            lines.append(f" ; {op.leaf} of {op.operator} ({op.operator_class}) left out: "
-                         f"{op.skipped}")
-        if not op.commands:
-            continue
-        if op.operator != last_op:
-            lines.append(f"<<{op.operator_class.capitalize()}>> {op.operator}")
-            last_op, last_goal = op.operator, None
-        if op.goal is not None and (op.goal, op.wrist) != last_goal:
-            lines.append(f" GOAL-POSITION {_pose(op)}")
-            lines.append(f" ARM GOAL POSITION {fvec(op.arm_goal)}")
-            if op.steadied:
-                lines.append(f" ; moved {op.steadied:.1f} mm from the taught spot so that "
-                             f"'{op.focus}' and its load stand on the supports")
-            last_goal = (op.goal, op.wrist)
-        if op.fine:
-            lines.append(f" ; fine motion: set down clear of the contact, {op.fine} into it")
-        lines.append(f" <{op.operation.lower()}>")
-        lines.extend(f" {c.text()}" for c in op.commands)
-    return "\n".join(lines) + "\n"
-
-
-def _pose(op: TracedOp) -> str:
-    """The goal as Fig. 24's 6-vector: centre (mm), then the turn about x, y and the vertical
-    (degrees); the last is the wrist's, the jaws' closing direction from world x."""
-    return fvec((*op.goal, 0.0, 0.0, op.wrist or 0.0))

@@ -125,6 +125,7 @@ class EnvModel:
     # turn now (degrees from world x, design.md "Robot").
     grips: dict[str, tuple[int, float]] = field(default_factory=dict)
     wrist: float = 0.0
+    placed: set[str] = field(default_factory=set)  # objects the traced plan has put down
 
     def __post_init__(self) -> None:
         region = tuple(float(v) for v in self.rules.constants["attention-region"])
@@ -275,7 +276,8 @@ class EnvModel:
     def __deepcopy__(self, memo: dict) -> EnvModel:
         """A copy to try things on (the rules are shared, not copied)."""
         env = EnvModel(self.rules, {n: replace(v) for n, v in self.nodes.items()},
-                       list(self.relations), dict(self.followers), dict(self.grips), self.wrist)
+                       list(self.relations), dict(self.followers), dict(self.grips), self.wrist,
+                       set(self.placed))
         memo[id(self)] = env
         return env
 
@@ -338,6 +340,7 @@ class EnvModel:
             if r.type in self.rules.support_relations:
                 self.relations = [x for x in self.relations if not (
                     x.subject == r.subject and x.type in self.rules.support_relations)]
+                self.placed.add(r.subject)
             obj = tuple(sorted(r.objects)) if len(r.objects) > 1 else r.objects[0]
             self.relations.append(Relation(r.type, r.subject, obj))
 

@@ -60,7 +60,7 @@ FINE_MOTIONS = ("slide", "push")  # the expansions an operation may give for a f
 
 _REQUIRED = ("arm-frame", "approach-height", "home", "gripper", "focus", "operations", "macros")
 _OPTIONAL = ("skip-null-moves", "release-clearance", "balance-margin", "steady-margin",
-             "fine-motion", "harmless")
+             "fine-motion", "harmless", "set-aside")
 _GRIPPER = ("jaw-axes", "max-opening", "margin", "tip", "finger", "clearance", "tip-clearance",
             "max-below-top")
 _FINE = ("relations", "clearance", "contact-gap", "coplanar-tolerance")
@@ -155,6 +155,7 @@ class CommandRules:
     steady_margin: float = 0.0  # see balance.steadied
     fine: ContactRules = field(default_factory=lambda: ContactRules())
     harmless: tuple[str, ...] = ()  # plan classes whose leaves never stop execution
+    set_aside: tuple[Step, ...] = ()  # puts an unplanned rider on the table (do/clearing.py)
 
     def operation_of(self, word: str) -> str:
         """The operation a plan leaf's label names (operations.yaml labels; else its name)."""
@@ -187,7 +188,12 @@ def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str],
     rd.keys(focus, "focus", ("relations", "slots"), where="focus")
     macros = _macros(rd, doc["macros"])
     operations = _operations(rd, doc["operations"])
-    _check_calls(rd, macros, operations)
+    set_aside = ()
+    if "set-aside" in doc:
+        raw = rd.mapping(doc["set-aside"], "set-aside", doc, "set-aside")
+        rd.keys(raw, "set-aside", ("steps",), where="set-aside")
+        set_aside = _steps(rd, raw, "steps", "set-aside.steps")
+    _check_calls(rd, macros, operations, set_aside)
 
     def mm(container: dict, key: str, where: str, low: float = 0.0) -> float:
         return rd.number(container, key, where, low, 1000.0, where)
@@ -222,6 +228,7 @@ def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str],
         fine=_fine(rd, doc, relations),
         harmless=rd.names(doc, "harmless", "harmless", PLAN_CLASSES, "harmless")
         if "harmless" in doc else (),
+        set_aside=set_aside,
     )
 
 
@@ -322,7 +329,8 @@ def _operations(rd: Reader, raw: Any) -> dict[str, OperationRule]:
     return out
 
 
-def _check_calls(rd: Reader, macros: dict[str, Macro], ops: dict[str, OperationRule]) -> None:
+def _check_calls(rd: Reader, macros: dict[str, Macro], ops: dict[str, OperationRule],
+                 set_aside: tuple[Step, ...] = ()) -> None:
     """Every step names a known macro or primitive with the right arity and known names."""
     def check(steps: tuple[Step, ...], scope: set[str], where: str) -> None:
         for s in steps:
@@ -347,6 +355,7 @@ def _check_calls(rd: Reader, macros: dict[str, Macro], ops: dict[str, OperationR
         check(o.steps, set(), f"operations.{o.name}")
         for kind, steps in o.fine.items():
             check(steps, set(), f"operations.{o.name}.{kind}")
+    check(set_aside, set(), "set-aside")
     _no_recursion(rd, macros)
 
 
