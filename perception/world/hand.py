@@ -75,11 +75,18 @@ class Gripper:
     """Kinematic two-finger gripper; call ``move_to``/``open``/``close``, the world steps it."""
 
     def __init__(self, position: Vec3, opening: float = 60.0, kind: str = "hand",
-                 geometry: GripperGeometry | None = None, max_speed: float = math.inf) -> None:
-        """Create the gripper at ``position`` (add it to a World with ``World.add_gripper``)."""
+                 geometry: GripperGeometry | None = None, max_speed: float = math.inf,
+                 y_contacts: bool = False) -> None:
+        """Create the gripper at ``position`` (add it to a World with ``World.add_gripper``).
+
+        ``y_contacts``: its moves along y push what its fingers or held block run
+        into (the robot); a scripted hand (the demonstrator) plans clear of blocks
+        along y and skips the check, so demonstrations stay as they were.
+        """
         self.geometry = g = geometry or GripperGeometry()
         self.kind = kind
         self.max_speed = max_speed  # mm/s; inf = reach each target within one world step
+        self.y_contacts = y_contacts
         self.present = True  # an absent gripper is left out of the scene (not in view)
         self.body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
         self.body.position = (position[0], position[2])
@@ -185,10 +192,6 @@ class Gripper:
         for _, body, shape in self.fingers:
             world.space.add(body, shape)
 
-    def _finger_dx(self, side: int) -> float:
-        """A finger's x offset from the grip centre (y-jaws stand at the grip's x)."""
-        return side * (self.opening + self.geometry.finger[0]) / 2 if self.axis == 0 else 0.0
-
     def _place_fingers(self, dt: float, state: tuple[float, float, float, float] | None = None
                        ) -> None:
         """Give the fingers the velocity that brings them to the current opening.
@@ -201,8 +204,9 @@ class Gripper:
         else:
             hx, hz, vx, vz = state
         fz = hz - TIP + self.geometry.finger[2] / 2
+        half = (self.opening + self.geometry.finger[0]) / 2 if self.axis == 0 else 0.0
         for side, body, _ in self.fingers:
-            want = hx + vx * dt + self._finger_dx(side)
+            want = hx + vx * dt + side * half  # y-jaws stand at the grip's x
             if dt > 0:
                 _set_velocity(body, ((want - body.position[0]) / dt, vz))
             else:

@@ -6,7 +6,7 @@ bodies whose y-extents do not overlap is ignored (a begin/pre_solve callback
 rejects it), so support, stacking, balance and toppling are physical. The
 table spans all of y. Grippers (``perception.world.hand``) are kinematic and driven
 by position targets; a held block's y follows its gripper kinematically, and
-what a finger or a held block runs into along y is pushed ahead of it.
+what the robot's finger or held block runs into along y is pushed ahead of it.
 
 Ground-truth accessors (``positions``, ``relations``) are for evaluation only;
 perception's detectors never see this module (tests/test_boundaries.py).
@@ -145,8 +145,16 @@ class World:
                 g.substep(start, g.target, (k + 1) / n, h)
             self.space.step(h)
         for g in self.grippers:
-            if g.target[1] != g.y:
+            if g.target[1] == g.y:
+                continue
+            if g.y_contacts:
                 self._move_y(g, g.target[1])
+            else:  # a scripted hand: its path keeps clear of blocks along y
+                g.y = g.target[1]
+                if g.holding is not None:
+                    self.y[g.holding] = g.y + g._hold_dy
+                    for name, dy in g.riders.items():
+                        self.y[name] = g.y + dy
         self.time += dt
 
     def _move_y(self, g: Gripper, y: float) -> None:
@@ -158,32 +166,34 @@ class World:
         slips against a block on the table: 25 times its weight against friction).
         """
         carried = [g.holding, *g.riders] if g.holding is not None else []
-        skip = set(carried)
-        before = [(shape.bb, g.finger_y_range(side)) for side, _, shape in g.fingers]
         dy = y - g.y
+        movers = [(shape.bb, g.finger_y_range(side)) for side, _, shape in g.fingers]
+        movers += [(self.shapes[n].bb, self.extent(n, 1)) for n in carried]
         g.y = y
-        for (bb, span), (side, _, _) in zip(before, g.fingers, strict=True):
-            self._sweep_y(bb, span, g.finger_y_range(side), skip)
-        for name in carried:
-            self._sweep_y(self.shapes[name].bb, self.extent(name, 1),
-                          tuple(v + dy for v in self.extent(name, 1)), skip)
+        left, right = min(bb.left for bb, _ in movers), max(bb.right for bb, _ in movers)
+        low = min(bb.bottom for bb, _ in movers)
+        near = {}  # blocks whose x-z box meets the movers' x-z span: the only ones in reach
+        for n in self.names:
+            ob = self.shapes[n].bb
+            if ob.top > low + SLOP and ob.right > left + SLOP and ob.left < right - SLOP \
+                    and n not in carried:
+                near[n] = ob
+        for bb, (y0, y1) in movers if near else ():
+            self._sweep_y(bb, (y0, y1), (y0 + dy, y1 + dy), near)
         for name in carried:
             self.y[name] += dy
 
     def _sweep_y(self, bb: pymunk.BB, span0: tuple[float, float], span1: tuple[float, float],
-                 skip: set[str]) -> None:
+                 among: dict[str, pymunk.BB]) -> None:
         """A box of x-z bounds ``bb`` moved along y from ``span0`` to ``span1``: push the
-        blocks it runs into (and, through them, the blocks they run into)."""
+        blocks ``among`` it runs into (and, through them, the blocks they run into)."""
         d = span1[0] - span0[0]
         if d == 0.0:
             return
-        for other in self.names:
-            if other in skip:
-                continue
-            ob = self.shapes[other].bb
+        for other, ob in among.items():
             if min(bb.right, ob.right) - max(bb.left, ob.left) <= SLOP or \
                     min(bb.top, ob.top) - max(bb.bottom, ob.bottom) <= SLOP:
-                continue  # apart in x-z: they never meet
+                continue  # they only graze in x-z: they never meet
             lo, hi = self.extent(other, 1)
             if d > 0 and span0[1] <= lo + Y_TOUCH < span1[1]:
                 push = span1[1] - lo
@@ -191,7 +201,8 @@ class World:
                 push = span1[0] - hi
             else:
                 continue
-            self._sweep_y(ob, (lo, hi), (lo + push, hi + push), skip | {other})
+            rest = {n: b for n, b in among.items() if n != other}
+            self._sweep_y(ob, (lo, hi), (lo + push, hi + push), rest)
             self.shift_y(other, push)
 
     def shift_y(self, name: str, dy: float, riders: Iterable[str] | None = None) -> None:

@@ -58,7 +58,7 @@ class Robot:
         if max_opening is not None:
             geometry = replace(geometry, max_opening=max_opening)
         self.gripper = world.add_gripper(Gripper(tuple(home), opening=80.0, kind="arm",
-                                                 geometry=geometry))
+                                                 geometry=geometry, y_contacts=True))
         self.log = RobotLog()
         self._do = {"amove": self.amove, "open-hand": self.open_hand,
                     "close-hand": self.close_hand, "turn-wrist": self.turn_wrist,

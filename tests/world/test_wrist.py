@@ -26,7 +26,7 @@ def _grip(w, axis=1, strength=25.0):
     """Lower jaws along x (0) or y (1) around 'a', opened 12 mm wider, and close them."""
     x, y, _ = w.positions()["a"]
     g = w.add_gripper(Gripper((x, y, 150.0), opening=52.0, kind="arm",
-                              geometry=GripperGeometry(grip_strength=strength)))
+                              geometry=GripperGeometry(grip_strength=strength), y_contacts=True))
     g.turn(axis)
     g.move_to((x, y, 31.0))
     w.settle(1.0)
