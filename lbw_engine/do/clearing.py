@@ -13,6 +13,10 @@ open (Sec. IX-C2); this is the least one that keeps the plan's meaning.
 A free spot is a table spot where the rider and the open jaws around it meet
 nothing, away from where the plan will build (each taught placement in world
 coordinates, grown by ``BUILD_MARGIN_MM``), nearest the rider first.
+
+The same steps put down a block that no one way of closing the jaws can both
+pick up and put where the plan wants it (``plan_regrasp``): it is set down on a
+free spot where it can be let go one way and taken again the other.
 """
 
 from __future__ import annotations
@@ -62,6 +66,22 @@ def plan_set_aside(plan: Plan, name: str, rules: CommandRules,
     for spot in _spots(body.position, body.size):
         if _clear(name, spot, axis, off, rules, model, avoid):
             return SetAside(name, body.position, spot, axis, off)
+    return None
+
+
+def plan_regrasp(plan: Plan, name: str, picks: list[tuple[int, float]],
+                 places: list[tuple[int, float]], rules: CommandRules,
+                 model: EnvModel) -> SetAside | None:
+    """Where to put ``name`` down to take it again another way (grasp.NoCommonGrip): a
+    free table spot where one of ``picks`` can let go of it and one of ``places`` can
+    take it up, nearest it first."""
+    body = model.bodies[name]
+    avoid = _build_sites(plan, rules, model)
+    for spot in _spots(body.position, body.size):
+        for axis, off in picks:
+            if _clear(name, spot, axis, off, rules, model, avoid) and any(
+                    jaws.blocker(name, spot, a, o, rules, model) is None for a, o in places):
+                return SetAside(name, body.position, spot, axis, off)
     return None
 
 

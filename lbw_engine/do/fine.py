@@ -6,8 +6,9 @@ A place is made one of three ways (commands.yaml ``fine-motion``):
 |-------|---------------------------------------|---------------------------------------|
 | plain | the jaws are clear at the goal        | straight down, let go (Table IX PLACE)|
 | slide | the demonstration aligned the block   | set down ``clearance`` mm from the    |
-|       | (SC+ holds a fine-motion relation) and| partner, slide into contact holding   |
-|       | the contact lies across the jaws      | it, let go                            |
+|       | (SC+ holds a fine-motion relation), or| partner, slide into contact holding   |
+|       | a block is nearer than ``near`` on one| it, let go                            |
+|       | side; the contact lies across the jaws|                                       |
 | push  | a jaw's own side is in contact at the | set down where the jaws are clear,    |
 |       | goal (the partner, or a neighbour no  | let go, push it in with the closed    |
 |       | jaw can pass)                         | jaws                                  |
@@ -122,6 +123,11 @@ def plan_place(focus: str, goal: Vec, axis: int, offset: float, rules: CommandRu
                              alignment), ""
     hit = jaws.blocker(focus, goal, axis, offset, rules, model)
     if hit is None:
+        near = _near_sides(focus, goal, 1 - axis, rules, model)
+        if alignment is None and len(near) == 1:  # a face to meet across the jaws: slide in
+            plan = _slide(focus, goal, axis, offset, 1 - axis, near[0], rules, model)
+            if plan is not None:
+                return plan, ""
         return PlacePlan("plain", goal, alignment=alignment), ""
     blocked = _blocked_sides(focus, goal, axis, offset, rules, model)
     if len(blocked) == 1:
@@ -130,6 +136,26 @@ def plan_place(focus: str, goal: Vec, axis: int, offset: float, rules: CommandRu
             return plan, ""
     return None, (f"a jaw would hit '{hit}' at {_mm(model.bodies[hit].position)}, and there "
                   "is no room to set it down clear and push it in")
+
+
+def _near_sides(focus: str, goal: Vec, k: int, rules: CommandRules,
+                model: EnvModel) -> list[int]:
+    """The sides (-1, +1 along ``k``) where a block beside the goal, level with it, is
+    nearer than ``fine-motion.near``: set straight down, a measurement error would put
+    the two into each other."""
+    size = model.bodies[focus].size
+    ignore = jaws.moving(focus, model)
+    sides = set()
+    for name, b in model.bodies.items():
+        if name in ignore:
+            continue
+        o = 1 - k
+        level = (size[2] + b.size[2]) / 2 - abs(goal[2] - b.position[2]) > 0.5
+        beside = (size[o] + b.size[o]) / 2 - abs(goal[o] - b.position[o]) > 0.5
+        gap = abs(goal[k] - b.position[k]) - (size[k] + b.size[k]) / 2
+        if level and beside and gap < rules.fine.near:
+            sides.add(1 if b.position[k] > goal[k] else -1)
+    return sorted(sides)
 
 
 def _blocked_sides(focus: str, goal: Vec, axis: int, offset: float, rules: CommandRules,

@@ -6,9 +6,11 @@ grip offset chosen at the pick serve the place too. The candidates are the
 `gripper.jaw-axes` in their listed order whose opening fits (`max-opening`),
 each with its grip offsets nearest the centre first (jaws.py). A candidate
 must leave the jaws clear at the pick; among those, the first whose place can
-be made straight down or with the held slide of an ALIGN wins, else the first
-whose place needs the push (fine.py); else the grip is refused, naming what is
-in the way. Without a place ahead (a touch), the pick alone decides.
+be made straight down or with a held slide wins, else the first whose place
+needs the push (fine.py). When some ways serve the pick and others the place,
+but none both, ``NoCommonGrip`` says so: the object is put down on the way and
+taken again the other way (a regrasp, clearing.py). Else the grip is refused,
+naming what is in the way. Without a place ahead (a touch), the pick decides.
 """
 
 from __future__ import annotations
@@ -24,6 +26,15 @@ from lbw_engine.rules.commands import CommandRules
 
 # (axis, offset) -> how the coming place would be made, or (None, why); None: no place ahead
 PlaceAhead = Callable[[int, float], tuple[PlacePlan | None, str] | None]
+Grip = tuple[int, float]  # jaw axis (0: x, 1: y), grip offset across the jaws (mm)
+
+
+class NoCommonGrip(TaskFailed):
+    """Some grips serve the pick, others the place, none both."""
+
+    def __init__(self, message: str, picks: list[Grip], places: list[Grip]) -> None:
+        super().__init__(message)
+        self.picks, self.places = picks, places
 
 
 def choose(focus: str, centre: Vec, rules: CommandRules, model: EnvModel,
@@ -42,7 +53,8 @@ def choose(focus: str, centre: Vec, rules: CommandRules, model: EnvModel,
                 f"({rules.max_opening:g} mm with {rules.margin:g} mm to spare) whichever way "
                 "they close")
         return rules.jaw_axes[0], 0.0
-    pushed: tuple[int, float] | None = None
+    pushed: Grip | None = None
+    picks: list[Grip] = []
     pick_hit = place_why = None
     for axis in fits:
         for off in jaws.offsets(size, axis, rules):
@@ -50,6 +62,7 @@ def choose(focus: str, centre: Vec, rules: CommandRules, model: EnvModel,
             if hit is not None:
                 pick_hit = pick_hit or hit
                 continue
+            picks.append((axis, off))
             ahead = place(axis, off) if place is not None else None
             if ahead is None or (ahead[0] is not None and ahead[0].kind != "push"):
                 return axis, off
@@ -62,8 +75,13 @@ def choose(focus: str, centre: Vec, rules: CommandRules, model: EnvModel,
     if not strict:
         return fits[0], 0.0
     if place_why is not None:
-        raise TaskFailed(f"'{focus}' can be picked up but not put down where the plan wants "
-                         f"it, whichever way the jaws close: {place_why}")
+        places = [(a, o) for a in fits for o in jaws.offsets(size, a, rules)
+                  if (place(a, o) or (None, ""))[0] is not None]
+        message = (f"'{focus}' can be picked up but not put down where the plan wants it, "
+                   f"whichever way the jaws close: {place_why}")
+        if places:
+            raise NoCommonGrip(message, picks, places)
+        raise TaskFailed(message)
     b = model.bodies[pick_hit]
     raise TaskFailed(f"the gripper cannot hold '{focus}' at {_mm(centre)}: a jaw would hit "
                      f"'{pick_hit}' at {_mm(b.position)} whichever way the jaws close")

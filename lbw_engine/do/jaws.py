@@ -93,8 +93,14 @@ def blocker(focus: str, centre: Vec, axis: int, offset: float, rules: CommandRul
 
 
 def offsets(size: Vec, axis: int, rules: CommandRules) -> list[float]:
-    """Candidate grip offsets across the jaws, nearest the centre first (5 mm apart)."""
-    reach = max(0.0, (size[1 - axis] - rules.finger[1]) / 2)
+    """Candidate grip offsets across the jaws, nearest the centre first (5 mm apart).
+
+    The fingers grip over the whole of the narrower of the finger and the face: a
+    face wider than the finger lets it slide along the face, a face narrower than
+    the finger (a 12 mm cube, 20 mm deep fingers) lets the finger stick out on one
+    side only, away from a neighbour.
+    """
+    reach = abs(size[1 - axis] - rules.finger[1]) / 2
     out, k = [0.0], 1
     while k * STEP_MM <= reach + 1e-9:
         out += [k * STEP_MM, -k * STEP_MM]

@@ -192,7 +192,12 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
                 goal, steps = place.goal, _fine_steps(rule, place, plan.file, where)
         else:
             ahead = _ahead(plan, rules, model, op, leaf, focus)
-            axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
+            try:
+                axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
+            except grasp.NoCommonGrip as exc:  # put it down on the way, take it the other way
+                aside.append(_regrasp(plan, rules, model, expander, focus, exc, where))
+                goal = model.bodies[focus].position
+                axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
             model.grips[focus] = (axis, off)
         ctx.goal = jaws.tool_point(goal, size, axis, off, rules)
         ctx.width, ctx.wrist = size[axis] + rules.margin, 90.0 * axis
@@ -219,17 +224,37 @@ def _set_aside(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
         if sa is None:
             raise TaskFailed(f"'{name}' rests on '{focus}', which the plan picks up, and "
                              "there is no free spot on the table to set it aside")
-        size = model.bodies[name].size
-        spot = (sa.spot[0], sa.spot[1], sa.spot[2] + rules.release_clearance)
-        ctx = Context(jaws.tool_point(sa.start, size, sa.axis, sa.offset, rules),
-                      size[sa.axis] + rules.margin, where, 90.0 * sa.axis,
-                      {"set-down": jaws.tool_point(spot, size, sa.axis, sa.offset, rules)})
-        model.grips[name] = (sa.axis, sa.offset)
-        done = expander.run(rules.set_aside, ctx)
-        model.apply((), [clearing.support_on_table(name, rules)])
+        start = len(expander.emitted)
+        spot = _put_down(sa, rules, model, expander, where)
         out.append((f"'{name}' rests on '{focus}' where the plan does not put it: set aside "
-                    f"at {_mm(spot)}", done))
+                    f"at {_mm(spot)}", expander.emitted[start:]))
     return out
+
+
+def _regrasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+             focus: str, exc: grasp.NoCommonGrip, where: str) -> tuple[str, list[Command]]:
+    """Put ``focus`` down where it can be taken the way its place needs (clearing.py)."""
+    sa = clearing.plan_regrasp(plan, focus, exc.picks, exc.places, rules, model)
+    if sa is None:
+        raise TaskFailed(f"{exc} (and no free spot on the table to take it again the other way)")
+    start = len(expander.emitted)
+    spot = _put_down(sa, rules, model, expander, where)
+    return (f"no one way of closing the jaws serves both where '{focus}' is and where it "
+            f"goes: put down at {_mm(spot)} to be taken again", expander.emitted[start:])
+
+
+def _put_down(sa: clearing.SetAside, rules: CommandRules, model: EnvModel,
+              expander: Expander, where: str) -> Vec:
+    """Pick a block up and put it on its table spot (commands.yaml set-aside)."""
+    size = model.bodies[sa.name].size
+    spot = (sa.spot[0], sa.spot[1], sa.spot[2] + rules.release_clearance)
+    ctx = Context(jaws.tool_point(sa.start, size, sa.axis, sa.offset, rules),
+                  size[sa.axis] + rules.margin, where, 90.0 * sa.axis,
+                  {"set-down": jaws.tool_point(spot, size, sa.axis, sa.offset, rules)})
+    model.grips[sa.name] = (sa.axis, sa.offset)
+    expander.run(rules.set_aside, ctx)
+    model.apply((), [clearing.support_on_table(sa.name, rules)])
+    return spot
 
 
 def _place_plan(op: Operator, focus: str, goal: Vec, axis: int, off: float,

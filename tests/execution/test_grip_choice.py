@@ -81,7 +81,9 @@ PLACES = [
     # id, neighbours, jaw axis, alignment, kind, set-down offset from the goal (dx, dy)
     ("free", [], 0, None, "plain", None),
     ("contact-on-a-jaw-side-pushed", [(41.0, 200.0)], 0, None, "push", (-20.0, 0.0)),
-    ("contact-across-the-jaws-plain", [(0.0, 241.0)], 0, None, "plain", None),
+    ("near-across-the-jaws-slides-in", [(0.0, 241.0)], 0, None, "slide", (0.0, -10.0)),
+    ("4mm-across-the-jaws-plain", [(0.0, 244.0)], 0, None, "plain", None),
+    ("near-both-sides-across-plain", [(0.0, 241.0), (0.0, 159.0)], 0, None, "plain", None),
     ("slot-between-jaws-impossible", [(41.0, 200.0), (-41.0, 200.0)], 0, None, None, None),
     ("align-across-the-jaws-slides", [(0.0, 241.0)], 0, ALONG_Y, "slide", (0.0, -10.0)),
     ("align-along-the-jaws-pushes", [(0.0, 241.0)], 1, ALONG_Y, "push", (0.0, -20.0)),
@@ -105,6 +107,38 @@ def test_a_place_into_side_contact_is_a_fine_motion(neighbours, axis, alignment,
         move = [b - a for a, b in zip(plan.push_from, plan.push_to, strict=True)]
         assert move[axis] == pytest.approx(-offset[axis] + RULES.jaw_clearance)
         assert move[1 - axis] == 0.0 and move[2] == 0.0
+
+
+def _one_move(obj, at):
+    """A plan that picks ``obj`` and puts it on the table at ``at`` (a hand-written plan.json)."""
+    on = ["on", obj, "table", {"at": [at[0], at[1], 20.0], "wrt": "table"}]
+    held = [["held-by", obj, "hand"], ["holding", "hand", obj]]
+    ops = {
+        "build01": ("BUILD", [on], ["$action", "achieve01"]),
+        "achieve01": ("ACHIEVE", [on], ["$sequence", ["$action", "fetch01"], ["$action", "put01"]]),
+        "fetch01": ("FETCH", held, ["$sequence", ["$action", "reach01"], ["$action", "pick01"]]),
+        "put01": ("PUT", [on], ["$sequence", ["$action", "reach-with-obj01"],
+                                ["$action", "place-on-table01"]]),
+    }
+    return planmod.parse({"root": "build01", "operators": {
+        n: {"class": c, "base": [obj], "target": ["table"], "special": [], "sc_plus": plus,
+            "plot": plot} for n, (c, plus, plot) in ops.items()}})
+
+
+def test_a_block_no_one_grip_serves_is_put_down_and_taken_again():
+    # Boxed in along x where it stands (the x-jaws cannot take it); put 1 mm from 'n'
+    # along y with 's' 15 mm behind, so the y-jaws have no room to set it down clear and
+    # push it in, while the x-jaws can slide it in: it is regrasped on the way.
+    model = model_of({"a": (CUBE, (0.0, 100.0, 0.0)), "w": (CUBE, (-44.0, 100.0, 0.0)),
+                      "e": (CUBE, (44.0, 100.0, 0.0)), "n": (CUBE, (100.0, 281.0, 0.0)),
+                      "s": (CUBE, (100.0, 185.0, 0.0))})
+    tr = trace(_one_move("a", (100.0, 240.0)), RULES, model)
+    pick = next(op for op in tr.ops if op.aside)
+    assert "no one way of closing the jaws" in pick.aside[0][0]
+    assert [c.text() for c in pick.commands if c.name == "turn-wrist"] == [
+        "turn-wrist 90.0", "turn-wrist 0.0"]
+    assert model.bodies["a"].position[:2] == pytest.approx((100.0, 240.0))
+    assert next(op for op in tr.ops if op.fine).fine == "slide"
 
 
 def test_align_goal_is_flush_with_the_partner_at_the_taught_distance():

@@ -29,6 +29,7 @@ ROWS = [
     ("pyramid-x", {"c1"}, {}, []),  # 6 mm between the bottom cubes along x
     ("align-x", {"b2"}, {"b2": "slide"}, [("b2", "b1", "south")]),  # ALIGN along x
     ("arch-close", {"left"}, {}, []),  # pillars 14 mm apart along x
+    ("row-y", set(), {"c1": "slide"}, []),  # in contact along y: set down clear, slid in
     # the last cube goes into the corner of three: set down clear, pushed in
     ("corner", {"c2"}, {"c2": "slide", "c3": "slide", "c4": "push"},
      [("c3", "c1", "west"), ("c2", "c1", "south"), ("c4", "c3", "south")]),
