@@ -114,8 +114,8 @@ def with_layout(path: Any, layout: dict[str, dict[str, Any]], seed: int) -> Any:
 
 def sweep(name: str, count: int, first_seed: int = 1, tight: bool = False) -> dict[str, Any]:
     """Learn ``name``'s plan by watching, then execute it in ``count`` random layouts."""
-    from lbw_engine.cli.execute import execute_plan
-    from lbw_engine.cli.run import pipeline
+    from lbw_engine.pipeline.execute import execute_plan
+    from lbw_engine.pipeline.run import run as pipeline
     from perception.world.scenario import load
 
     path = bundled_scenario(name)

@@ -7,7 +7,7 @@ A place is made one of three ways (commands.yaml ``fine-motion``):
 | plain | the jaws are clear at the goal        | straight down, let go (Table IX PLACE)|
 | slide | the demonstration aligned the block   | set down ``clearance`` mm from the    |
 |       | (SC+ holds a fine-motion relation), or| partner, slide into contact holding   |
-|       | a block is nearer than ``near`` on one| it, let go                            |
+|       | a block is within ``snap-gap`` on one | it, let go                            |
 |       | side; the contact lies across the jaws|                                       |
 | push  | a jaw's own side is in contact at the | set down where the jaws are clear,    |
 |       | goal (the partner, or a neighbour no  | let go, push it in with the closed    |
@@ -141,7 +141,7 @@ def plan_place(focus: str, goal: Vec, axis: int, offset: float, rules: CommandRu
 def _near_sides(focus: str, goal: Vec, k: int, rules: CommandRules,
                 model: EnvModel) -> list[int]:
     """The sides (-1, +1 along ``k``) where a block beside the goal, level with it, is
-    nearer than ``fine-motion.near``: set straight down, a measurement error would put
+    nearer than ``fine-motion.snap-gap``: set straight down, a measurement error would put
     the two into each other."""
     size = model.bodies[focus].size
     ignore = jaws.moving(focus, model)
@@ -153,7 +153,7 @@ def _near_sides(focus: str, goal: Vec, k: int, rules: CommandRules,
         level = (size[2] + b.size[2]) / 2 - abs(goal[2] - b.position[2]) > 0.5
         beside = (size[o] + b.size[o]) / 2 - abs(goal[o] - b.position[o]) > 0.5
         gap = abs(goal[k] - b.position[k]) - (size[k] + b.size[k]) / 2
-        if level and beside and gap < rules.fine.near:
+        if level and beside and gap < rules.fine.snap_gap:
             sides.add(1 if b.position[k] > goal[k] else -1)
     return sorted(sides)
 

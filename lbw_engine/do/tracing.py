@@ -27,16 +27,15 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from lbw_engine.do import clearing, fine, grasp, jaws
-from lbw_engine.do.balance import steadied, unbalanced
+from lbw_engine.do.balance import unbalanced
 from lbw_engine.do.expander import Command, Context, Expander
 from lbw_engine.do.fine import Alignment, PlacePlan
-from lbw_engine.do.plan import Operator, Plan, Relation, action_names
+from lbw_engine.do.placement import NOT_OBJECTS, mm, placement
+from lbw_engine.do.plan import Operator, Plan, action_names
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import EnvModel
-from lbw_engine.model.geometry import TABLE, Vec, overlap, top
+from lbw_engine.model.geometry import Vec
 from lbw_engine.rules.commands import CommandRules, OperationRule
-
-NOT_OBJECTS = frozenset({TABLE, "hand"})
 
 
 @dataclass
@@ -227,7 +226,7 @@ def _set_aside(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
         start = len(expander.emitted)
         spot = _put_down(sa, rules, model, expander, where)
         out.append((f"'{name}' rests on '{focus}' where the plan does not put it: set aside "
-                    f"at {_mm(spot)}", expander.emitted[start:]))
+                    f"at {mm(spot)}", expander.emitted[start:]))
     return out
 
 
@@ -240,7 +239,7 @@ def _regrasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expande
     start = len(expander.emitted)
     spot = _put_down(sa, rules, model, expander, where)
     return (f"no one way of closing the jaws serves both where '{focus}' is and where it "
-            f"goes: put down at {_mm(spot)} to be taken again", expander.emitted[start:])
+            f"goes: put down at {mm(spot)} to be taken again", expander.emitted[start:])
 
 
 def _put_down(sa: clearing.SetAside, rules: CommandRules, model: EnvModel,
@@ -264,7 +263,7 @@ def _place_plan(op: Operator, focus: str, goal: Vec, axis: int, off: float,
     plan, why = fine.plan_place(focus, goal, axis, off, rules, model,
                                 found[1] if found else None)
     if plan is None:
-        raise TaskFailed(f"cannot put '{focus}' down at {_mm(goal)} with the jaws along "
+        raise TaskFailed(f"cannot put '{focus}' down at {mm(goal)} with the jaws along "
                          f"{jaws.AXIS_NAMES[axis]}: {why}")
     return plan
 
@@ -346,65 +345,8 @@ def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
                 if r.subject == focus and r.type in rules.support_relations), None)
     if rel is None:
         return None, 0.0
-    goal, moved = _placement(rel, focus, rules, model, file, where)
+    goal, moved = placement(rel, focus, rules, model, file, where)
     found = fine.aligned(op, focus, goal, rules, model)
     if found is not None:  # the demonstrated ALIGN: flush with its partner (fine.py)
         goal = found[0]
     return goal, moved
-
-
-def placement_goal(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
-                   file: str = "<plan>", where: str = "") -> Vec:
-    """Where ``focus`` goes for a taught support relation, in the current model."""
-    return _placement(rel, focus, rules, model, file, where)[0]
-
-
-def _placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
-               file: str, where: str) -> tuple[Vec, float]:
-    """placement_goal, and how far the taught spot was moved so the load stands."""
-    for s in [*rel.objects, *([rel.wrt] if rel.wrt else [])]:
-        if s not in NOT_OBJECTS and s not in model.bodies:
-            raise InputError(f"the relation names '{s}', which is not a plan object",
-                             file=file, where=where)
-    supports = [s for s in rel.objects if s != TABLE]
-    if rel.at is not None and rel.wrt not in (None, TABLE):
-        ref = model.bodies[rel.wrt].position  # relative to the support's current place
-        xy = (ref[0] + rel.at[0], ref[1] + rel.at[1])
-    elif rel.at is not None:
-        xy = (rel.at[0], rel.at[1])  # world frame (on the table, or no :wrt)
-    elif supports:
-        ps = [model.bodies[s].position for s in supports]  # centre of the supports
-        xy = (sum(p[0] for p in ps) / len(ps), sum(p[1] for p in ps) / len(ps))
-    else:
-        raise InputError(f"the placement of '{focus}' on the table has no :at position",
-                         file=file, where=where)
-    # A spot where the object and its riders would tip off their supports cannot be
-    # what the demonstration showed (that structure stood): its offset was measured
-    # wrong. Put the load where it stands, as near the taught spot as that allows.
-    xy, moved = steadied(model, focus, xy, supports, rules.balance_margin, rules.steady_margin)
-    size = model.bodies[focus].size
-    rest = model.settled(supports)  # supports rest on theirs, not at their release height
-    base = max((top(rest[s], model.bodies[s].size) for s in supports), default=0.0)
-    goal = (xy[0], xy[1], base + size[2] / 2 + rules.release_clearance)
-    _check_free(goal, focus, model)
-    return goal, moved
-
-
-def _check_free(goal: Vec, focus: str, model: EnvModel) -> None:
-    """A goal spot taken by another object makes the task impossible (exit 1)."""
-    moving = {focus, *model.supported_by(focus)}
-    size = model.bodies[focus].size
-    for name, b in model.bodies.items():
-        if name in moving:
-            continue
-        if overlap(goal, size, b.position, b.size, tol=1.5):
-            kind = "" if b.relevant else ", an object the plan does not use,"
-            raise TaskFailed(
-                f"cannot place '{focus}' at {_mm(goal)}: the spot is occupied by "
-                f"'{name}'{kind} at {_mm(b.position)}"
-            )
-
-
-def _mm(v: Vec) -> str:
-    """A position for messages."""
-    return "(" + ", ".join(f"{c:.0f}" for c in v) + ") mm"

@@ -63,7 +63,7 @@ _OPTIONAL = ("skip-null-moves", "release-clearance", "balance-margin", "steady-m
              "fine-motion", "harmless", "set-aside")
 _GRIPPER = ("jaw-axes", "max-opening", "margin", "tip", "finger", "clearance", "tip-clearance",
             "max-below-top")
-_FINE = ("relations", "clearance", "contact-gap", "near", "coplanar-tolerance")
+_FINE = ("relations", "clearance", "contact-gap", "snap-gap", "coplanar-tolerance")
 
 Expr = str | tuple[str, str]  # a name, or (xy-name, z-name) for {xy: P, z: Q}
 
@@ -124,7 +124,7 @@ class ContactRules:
     relations: tuple[str, ...] = ()  # SC+ relations that call for the demonstrated fine motion
     clearance: float = 10.0  # mm between the set-down spot and the contact
     contact_gap: float = 0.5  # mm left between the faces in contact
-    near: float = 3.0  # mm: a block nearer than this beside a goal is met by the slide
+    snap_gap: float = 3.0  # mm: a block nearer than this beside a goal is met by the slide
     coplanar_tolerance: float = 2.0  # mm: faces this close count as coplanar (verification)
 
 
@@ -247,7 +247,8 @@ def _fine(rd: Reader, doc: Any, relations: tuple[str, ...]) -> ContactRules:
                             "fine-motion.clearance"),
         contact_gap=rd.number(raw, "contact-gap", "fine-motion.contact-gap", 0.0, 5.0,
                               "fine-motion.contact-gap"),
-        near=rd.number(raw, "near", "fine-motion.near", 0.0, 20.0, "fine-motion.near"),
+        snap_gap=rd.number(raw, "snap-gap", "fine-motion.snap-gap", 0.0, 20.0,
+                           "fine-motion.snap-gap"),
         coplanar_tolerance=rd.number(raw, "coplanar-tolerance", "fine-motion.coplanar-tolerance",
                                      0.0, 20.0, "fine-motion.coplanar-tolerance"),
     )

@@ -127,7 +127,7 @@ BAD = [
     ("not-orthonormal", "    - [0.0, 0.0, -1.0]", "    - [0.0, 0.0, -0.5]", "orthonormal"),
     ("jaw-axis-z", "jaw-axes: [x, y]", "jaw-axes: [x, z]", "unknown name 'z'"),
     ("jaw-axes-twice", "jaw-axes: [x, y]", "jaw-axes: [x, x]", "each way the jaws close once"),
-    ("max-opening-zero", "max-opening: 150.0", "max-opening: 0", "gripper.max-opening"),
+    ("max-opening-zero", "max-opening: 150.0", "max-opening: 0", "expected a number in [1, 1000]"),
     ("fine-relation-unknown", "relations: [coplanar]", "relations: [coplanr]",
      "unknown name 'coplanr'"),
     ("harmless-class-unknown", "harmless: [FAKE]", "harmless: [FAKES]", "unknown name 'FAKES'"),

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from lbw_engine.cli.execute import execute_plan
 from lbw_engine.do import plan as planmod
+from lbw_engine.pipeline.execute import execute_plan
 from lbw_engine.rules import load_rules
 from perception.world.scenario import load
 

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from lbw_engine.cli import execute
 from lbw_engine.do import plan as planmod
 from lbw_engine.do.matching import Measured
+from lbw_engine.pipeline import execute
 from lbw_engine.rules import load_rules
 from perception.world.scenario import load
 

@@ -1,0 +1,28 @@
+"""Seeing (Sec. III-V): the demonstration, rendered frame by frame, recognized online.
+
+The world side (demonstrator and renderer, ``perception.world.stream``)
+produces frames one at a time; the recognizer
+(``perception.vision.envnodes.registry.watch_frames``) receives only that frame
+iterator, the camera models, the shape database and the teach names as a
+naming hint (docs/seeing.md).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+
+def watch(scenario: Any, rules: Any, fps: float = 30.0, pixel_noise: float | None = None,
+          on_frame: Callable[..., None] | None = None) -> tuple[Any, Any]:
+    """Simulate, render and recognize online; returns (recognizer, hand state).
+
+    ``on_frame(frame, recognizer, hand)`` runs after each frame (the monitor display)."""
+    from perception.vision.camera import default_cameras
+    from perception.vision.envnodes.registry import watch_frames
+    from perception.world.stream import demonstration_frames, teach_names
+
+    cameras = default_cameras()
+    frames = demonstration_frames(scenario, cameras, fps=fps, pixel_noise=pixel_noise)
+    return watch_frames(frames, cameras, scenario.shapes, rules, teach_names(scenario),
+                        on_frame)
