@@ -206,10 +206,14 @@ def _push(focus: str, goal: Vec, axis: int, offset: float, toward: int,
         spot = _shifted(goal, axis, -toward * room)
         if _free(focus, spot, model) and \
                 jaws.blocker(focus, spot, axis, offset, rules, model) is None:
-            start, end = _pusher(spot, size, axis, toward, room, rules)
-            boxes = [_closed_jaws(p, axis, rules) for p in (start, end)]
-            if jaws.hit(boxes, model, ignore, 2 * rules.jaw_clearance) is None:
-                return PlacePlan("push", goal, spot, start, end)
+            # A push needs the closed fingers on part of the face only: beside a
+            # neighbour they may meet it off centre (a small block in a corner).
+            for shift in jaws.steps_within(size[1 - axis] / 2):
+                start, end = _pusher(_shifted(spot, 1 - axis, shift), size, axis, toward,
+                                     room, rules)
+                boxes = [_closed_jaws(p, axis, rules) for p in (start, end)]
+                if jaws.hit(boxes, model, ignore, 2 * rules.jaw_clearance) is None:
+                    return PlacePlan("push", goal, spot, start, end)
         room += jaws.STEP_MM
     return None
 

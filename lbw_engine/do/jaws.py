@@ -100,11 +100,17 @@ def offsets(size: Vec, axis: int, rules: CommandRules) -> list[float]:
     the finger (a 12 mm cube, 20 mm deep fingers) lets the finger stick out on one
     side only, away from a neighbour.
     """
-    reach = abs(size[1 - axis] - rules.finger[1]) / 2
+    return steps_within(abs(size[1 - axis] - rules.finger[1]) / 2)
+
+
+def steps_within(reach: float) -> list[float]:
+    """0, ±5, ±10 ... mm up to ``reach``, and ±``reach`` itself (a 12 mm cube: 0, ±4)."""
     out, k = [0.0], 1
     while k * STEP_MM <= reach + 1e-9:
         out += [k * STEP_MM, -k * STEP_MM]
         k += 1
+    if reach > (k - 1) * STEP_MM + 0.5:
+        out += [reach, -reach]
     return out
 
 

@@ -19,6 +19,12 @@ from lbw_engine.model.geometry import Vec, support_relations, tilted
 
 POSITION_TOLERANCE_MM = 5.0
 TOPPLE_RAD = 0.2  # ~11°: a block tilted more than this has fallen over
+# The final state is the world's ground truth, exact to the physics' contact slop, so
+# a support bears a block whose footprint it meets by any more than this; the
+# recognizer's 3 mm (geometry.SUPPORT_OVERLAP_MM) allows for measurement error and
+# would miss a support of a small block (a 12 mm cube across a 4-8 mm gap rests on
+# 2-4 mm of each cube, issue #12).
+CONTACT_OVERLAP_MM = 0.5
 
 
 @dataclass(frozen=True)
@@ -54,6 +60,7 @@ def verify(
     topple_rad: float = TOPPLE_RAD,
     alignments: Sequence[Alignment] = (),
     coplanar_tolerance: float = 2.0,
+    support_overlap: float = CONTACT_OVERLAP_MM,
 ) -> Verdict:
     """Compare the measured final state of the plan's objects with the expected one.
 
@@ -62,7 +69,7 @@ def verify(
     """
     names = sorted(expected_positions)
     boxes = {n: tilted(s.position, s.size, s.angle) for n, s in measured.items()}
-    supports = support_relations(boxes, support_types[0], support_types[-1])
+    supports = support_relations(boxes, support_types[0], support_types[-1], support_overlap)
     mismatches: list[dict] = []
     relations: list[list] = []
     positions: dict[str, list[float]] = {}

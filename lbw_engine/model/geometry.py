@@ -49,14 +49,15 @@ def top(c: Vec, s: Vec) -> float:
     return c[2] + s[2] / 2
 
 
-def resting_on(name: str, boxes: Mapping[str, Box], ignore: frozenset[str] = frozenset()
-               ) -> list[str]:
+def resting_on(name: str, boxes: Mapping[str, Box], ignore: frozenset[str] = frozenset(),
+               overlap: float = SUPPORT_OVERLAP_MM) -> list[str]:
     """What ``name`` rests on: ``[table]``, the objects under it, or ``[]`` (held, falling).
 
     Candidates are the table and every box (not in ``ignore``) whose footprint meets
-    this one's and whose top is within SUPPORT_GAP_MM of its bottom; the nearest top
-    wins, with every other candidate whose top is level with it (a multi-support
-    place). Choosing the nearest keeps a block on a 10 mm plate off the table.
+    this one's by more than ``overlap`` mm and whose top is within SUPPORT_GAP_MM of
+    its bottom; the nearest top wins, with every other candidate whose top is level
+    with it (a multi-support place). Choosing the nearest keeps a block on a 10 mm
+    plate off the table.
     """
     c, s = boxes[name]
     bottom = c[2] - s[2] / 2
@@ -65,7 +66,7 @@ def resting_on(name: str, boxes: Mapping[str, Box], ignore: frozenset[str] = fro
         if other == name or other in ignore:
             continue
         gap = abs(top(c2, s2) - bottom)
-        if gap <= SUPPORT_GAP_MM and footprints_meet(c, s, c2, s2):
+        if gap <= SUPPORT_GAP_MM and footprints_meet(c, s, c2, s2, overlap):
             gaps.append((gap, other))
     if not gaps:
         return []
@@ -73,7 +74,8 @@ def resting_on(name: str, boxes: Mapping[str, Box], ignore: frozenset[str] = fro
     return sorted(n for g, n in gaps if g <= nearest + SUPPORT_LEVEL_MM)
 
 
-def support_relations(boxes: Mapping[str, Box], single: str, multiple: str
+def support_relations(boxes: Mapping[str, Box], single: str, multiple: str,
+                      overlap: float = SUPPORT_OVERLAP_MM
                       ) -> dict[str, tuple[str, tuple[str, ...]]]:
     """Each object's support relation: (single, (x,)) or (multiple, (x, y, ...)).
 
@@ -83,7 +85,7 @@ def support_relations(boxes: Mapping[str, Box], single: str, multiple: str
     """
     out = {}
     for name in boxes:
-        under = resting_on(name, boxes)
+        under = resting_on(name, boxes, overlap=overlap)
         if len(under) == 1:
             out[name] = (single, (under[0],))
         elif under:

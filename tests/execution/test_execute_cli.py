@@ -97,3 +97,17 @@ def test_bad_plan_file_is_bad_input(tmp_path, capsys):
                  "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert code == 2 and "plan.json" in err and "operators.a" in err
+
+
+def test_a_plate_wider_than_the_jaws_open_is_refused_with_the_reason(tmp_path, capsys):
+    """Issue #12: something wider than max-opening either way is exit 1, never a try."""
+    data = Path(__file__).resolve().parent / "data"
+    out = tmp_path / "out"
+    code = main(["execute", str(data / "wide-plate.plan.json"), str(data / "wide-plate.yaml"),
+                 "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 1 and "Traceback" not in err
+    assert "failed: instantiation: 'p' is 200 × 180 mm across, wider than the jaws open " \
+           "(150 mm with 12 mm to spare) whichever way they close" in err
+    report = json.loads((out / "execution.json").read_text())
+    assert report["success"] is False and report["failure"].startswith("instantiation: 'p'")

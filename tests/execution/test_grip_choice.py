@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from lbw_engine.do import fine, grasp
+from lbw_engine.do import fine, grasp, jaws
 from lbw_engine.do import plan as planmod
 from lbw_engine.do.listing import format_commands
 from lbw_engine.do.tracing import trace
@@ -200,3 +200,13 @@ def test_aligned_faces_are_verified_coplanar(off, ok):
                      coplanar_tolerance=RULES.fine.coplanar_tolerance)
     assert verdict.success is ok
     assert [m["kind"] for m in verdict.mismatches] == ([] if ok else ["aligned"])
+
+
+@pytest.mark.parametrize("size,want", [
+    ((40.0, 40.0, 40.0), [0.0, 5.0, -5.0, 10.0, -10.0]),  # 20 mm finger slides along a 40 mm face
+    ((12.0, 12.0, 12.0), [0.0, 4.0, -4.0]),  # the finger sticks out up to 4 mm on one side
+    ((16.0, 16.0, 16.0), [0.0, 2.0, -2.0]),
+    ((20.0, 20.0, 20.0), [0.0]),
+])
+def test_grip_offsets_reach_the_whole_difference_of_face_and_finger(size, want):
+    assert jaws.offsets(size, 0, RULESET.commands) == want
