@@ -10,11 +10,15 @@ STAMP  := $(VENV)/.installed
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet -e '.[test,cluster]'
 	touch $(STAMP)
 
+# The venv is not active in the shell that ran make: say how to type `lbw` (README "Set up").
 demo: $(STAMP)
-	$(BIN)/lbw demo
+	@$(BIN)/lbw demo; status=$$?; \
+	echo; echo "lbw is installed in $(VENV). To type 'lbw' in this shell: . $(VENV)/bin/activate"; \
+	echo "(or call $(BIN)/lbw). Then: lbw --help, lbw run scenarios/build-table.yaml"; \
+	exit $$status
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2

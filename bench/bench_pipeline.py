@@ -27,7 +27,7 @@ def main(argv: list[str]) -> dict[str, Any]:
     for f in doc["failures"]:
         print(f"  seed {f['seed']} ({f['level']}, {'+'.join(f['structures'])}): "
               f"{'; '.join(f['what'])}")
-    return {k: doc[k] for k in ("count", "seed", "jobs", "wall_seconds", "summary", "failures")}
+    return {k: doc[k] for k in ("count", "seed", "runner", "wall_seconds", "summary", "failures")}
 
 
 if __name__ == "__main__":

@@ -34,7 +34,7 @@ teach:
 CHILD = r"""
 import json, resource, sys, time
 from lbw_engine.rules import load_rules
-from lbw_engine.cli.watch import watch
+from lbw_engine.pipeline.watch import watch
 from perception.world.scenario import load, load_text
 text = sys.argv[1]
 sc = load(text) if text.endswith(".yaml") else load_text(text, "<long>")

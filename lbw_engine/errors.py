@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
+
+MAX_MESSAGE = 400  # characters of an error message, place not included
+_LINE_BREAKS = re.compile("[\n\r\v\f\x1c-\x1e\x85\u2028\u2029]+")  # str.splitlines' set
 
 
 class LbwError(Exception):
@@ -27,6 +31,10 @@ class InputError(LbwError):
         line: int | None = None,
         where: str | None = None,
     ) -> None:
+        # The last guard on length: values are shortened where they are printed
+        # (guard.shorten); a message built from many long names is cut here.
+        if len(message) > MAX_MESSAGE:
+            message = message[: MAX_MESSAGE - 41] + "…" + message[-40:]
         self.message = message
         self.file = str(file) if file is not None else None
         self.line = line
@@ -39,23 +47,12 @@ class InputError(LbwError):
             place = self.file + (f":{self.line}" if self.line else "")
         if self.where:
             place = f"{place}: {self.where}" if place else self.where
-        return f"{place}: {self.message}" if place else self.message
+        text = f"{place}: {self.message}" if place else self.message
+        # One line on the terminal, whatever a message or a file name holds.
+        return _LINE_BREAKS.sub(" ", text)
 
 
 class TaskFailed(LbwError):
     """The task failed (recognition or execution did not verify): exit code 1."""
 
     exit_code = 1
-
-
-def read_input(path: str | Path, noun: str = "file", expected: str = "a file") -> str:
-    """The text of an input file; any failure to read it is one InputError naming it."""
-    path = Path(path)
-    try:
-        return path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(f"{noun} not found", file=path) from None
-    except IsADirectoryError:
-        raise InputError(f"is a directory, expected {expected}", file=path) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read {noun} ({exc.__class__.__name__})", file=path) from None

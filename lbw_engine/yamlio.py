@@ -7,18 +7,27 @@ and sequences as ``LocList``; both carry ``.line`` (their own) and
 
 YAML 1.1 reads a bare ``on`` / ``off`` / ``yes`` / ``no`` as booleans. The
 scenario format uses ``on:`` as a key, so this loader only accepts ``true`` /
-``false`` as booleans and reads the rest as strings.
+``false`` as booleans and reads the rest as strings; dates stay strings too.
+
+The loader is part of lbw's guarded boundary (``lbw_engine.guard``): text must
+be printable, nesting is limited to ``MAX_DEPTH`` levels and a document to
+``MAX_NODES`` values with its aliases expanded (an alias bomb is refused before
+anything walks it), integers to ``MAX_DIGITS`` digits and floats to finite
+values, and only plain tags (strings, numbers, booleans, null, lists, mappings)
+are read. Each refusal names the line.
 """
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 from typing import Any
 
 import yaml
 
-from lbw_engine.errors import InputError, read_input
+from lbw_engine.errors import InputError
+from lbw_engine.guard import MAX_DEPTH, MAX_DIGITS, MAX_NODES, check_size, first_line, read_text
 
 
 class LocDict(dict):
@@ -35,13 +44,65 @@ class LocList(list):
     lines: list[int]
 
 
+class _Refused(yaml.MarkedYAMLError):
+    """A document outside lbw's limits (not a syntax error)."""
+
+
 class _Loader(yaml.SafeLoader):
-    """SafeLoader with YAML-1.2-like booleans and line-annotated containers."""
+    """SafeLoader with YAML-1.2-like booleans, line-annotated containers and limits."""
+
+    def __init__(self, stream: str) -> None:
+        super().__init__(stream)
+        self._depth = 0
+        self._weight: dict[int, int] = {}  # id(node) -> values under it, aliases expanded
+
+    def compose_node(self, parent: Any, index: Any) -> yaml.Node:
+        """Compose with a depth limit, and weigh each node as if aliases were copies."""
+        if self.check_event(yaml.AliasEvent):
+            node = super().compose_node(parent, index)
+            if id(node) not in self._weight:  # an alias inside its own anchor
+                raise _Refused(None, None, "an alias refers to a value that contains it",
+                               node.start_mark)
+            return node
+        self._depth += 1
+        try:
+            if self._depth > MAX_DEPTH:
+                raise _Refused(None, None, f"nested more than {MAX_DEPTH} levels deep",
+                               self.peek_event().start_mark)
+            node = super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
+        self._weigh(node)
+        return node
+
+    def _weigh(self, node: yaml.Node) -> None:
+        """Refuse a document whose expansion (through aliases) exceeds MAX_NODES."""
+        w = self._weight
+        if isinstance(node, yaml.SequenceNode):
+            weight = 1 + sum(w[id(c)] for c in node.value)
+        elif isinstance(node, yaml.MappingNode):
+            weight = 1 + sum(w[id(k)] + w[id(v)] for k, v in node.value)
+        else:
+            weight = 1
+        if weight > MAX_NODES:
+            raise _Refused(None, None, f"expands to more than {MAX_NODES:,} values through its "
+                           "aliases (an alias bomb?)", node.start_mark)
+        w[id(node)] = weight
+
+    def construct_object(self, node: yaml.Node, deep: bool = False) -> Any:
+        """Construct; a value its tag cannot read (``!!int abc``) names its line."""
+        try:
+            return super().construct_object(node, deep=deep)
+        except (ValueError, TypeError, OverflowError) as exc:
+            raise _Refused(None, None, f"cannot read this value ({first_line(exc, 80)})",
+                           node.start_mark) from None
 
 
-# Drop the YAML 1.1 bool resolver (yes/no/on/off) and install true/false only.
+# Drop the YAML 1.1 bool resolver (yes/no/on/off) and install true/false only;
+# drop the timestamp resolver too (2001-13-45 would fail; lbw has no dates).
 _Loader.yaml_implicit_resolvers = {
-    key: [(tag, rx) for tag, rx in resolvers if tag != "tag:yaml.org,2002:bool"]
+    key: [(tag, rx) for tag, rx in resolvers
+          if tag not in ("tag:yaml.org,2002:bool", "tag:yaml.org,2002:timestamp")]
     for key, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
 }
 _Loader.add_implicit_resolver(
@@ -49,6 +110,16 @@ _Loader.add_implicit_resolver(
     re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"),
     list("tTfF"),
 )
+
+
+def plain(value: Any) -> Any:
+    """A loaded document with its located containers (LocDict, LocList) as plain dicts
+    and lists, so that it can be dumped again."""
+    if isinstance(value, dict):
+        return {k: plain(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [plain(v) for v in value]
+    return value
 
 
 def _construct_mapping(loader: _Loader, node: yaml.MappingNode) -> LocDict:
@@ -80,12 +151,52 @@ def _construct_sequence(loader: _Loader, node: yaml.SequenceNode) -> LocList:
     return out
 
 
+def _construct_int(loader: _Loader, node: yaml.ScalarNode) -> int:
+    digits = sum(ch.isalnum() for ch in str(node.value))
+    if digits > MAX_DIGITS:
+        raise _Refused(None, None, f"an integer of {digits} digits; expected a number of at "
+                       f"most {MAX_DIGITS} digits", node.start_mark)
+    return yaml.SafeLoader.construct_yaml_int(loader, node)
+
+
+def _construct_float(loader: _Loader, node: yaml.ScalarNode) -> float:
+    value = yaml.SafeLoader.construct_yaml_float(loader, node)
+    if not math.isfinite(value):
+        raise _Refused(None, None, f"{str(node.value)[:40]} is not a finite number",
+                       node.start_mark)
+    return value
+
+
+def _not_allowed(loader: _Loader, node: yaml.Node) -> Any:
+    tag = str(node.tag).replace("tag:yaml.org,2002:", "!!")
+    raise _Refused(None, None, f"the tag {tag} is not allowed; use plain values, lists "
+                   "and mappings", node.start_mark)
+
+
 _Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
 _Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_SEQUENCE_TAG, _construct_sequence)
+_Loader.add_constructor("tag:yaml.org,2002:int", _construct_int)
+_Loader.add_constructor("tag:yaml.org,2002:float", _construct_float)
+for _tag in ("binary", "timestamp", "omap", "pairs", "set"):
+    _Loader.add_constructor(f"tag:yaml.org,2002:{_tag}", _not_allowed)
+
+
+def _printable(text: str, file: str | Path) -> None:
+    """YAML allows no control characters but tab and line breaks; name the first one."""
+    bad = yaml.reader.Reader.NON_PRINTABLE.search(text)
+    if bad:
+        at = bad.start()
+        line = text.count("\n", 0, at) + 1
+        column = at - (text.rfind("\n", 0, at) + 1) + 1
+        raise InputError(f"control character U+{ord(bad.group()):04X} at column {column}; "
+                         "expected printable text (tabs and line breaks are fine)",
+                         file=file, line=line)
 
 
 def loads(text: str, file: str | Path = "<string>") -> Any:
     """Parse YAML text safely; syntax errors become InputError with file:line."""
+    check_size(text, file)
+    _printable(text, file)
     try:
         loader = _Loader(text)  # a SafeLoader subclass: no arbitrary objects
         try:
@@ -96,15 +207,16 @@ def loads(text: str, file: str | Path = "<string>") -> Any:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark else None
         problem = exc.problem or exc.context or "invalid YAML"
-        raise InputError(f"invalid YAML: {problem}", file=file, line=line) from None
+        prefix = "" if isinstance(exc, _Refused) else "invalid YAML: "
+        raise InputError(prefix + problem, file=file, line=line) from None
     except yaml.YAMLError as exc:
-        raise InputError(f"invalid YAML: {exc}", file=file) from None
+        raise InputError(f"invalid YAML: {first_line(exc)}", file=file) from None
 
 
 def load_file(path: str | Path) -> Any:
     """Read and parse a YAML file; a missing or unreadable file is an InputError."""
     path = Path(path)
-    return loads(read_input(path, expected="a YAML file"), file=path)
+    return loads(read_text(path, expected="a YAML file"), file=path)
 
 
 def line_of(container: Any, key: Any = None) -> int | None:

@@ -5,8 +5,11 @@ of "exact" as `lbw bench` (a repeated closing operation counts once)."""
 import json
 from pathlib import Path
 
+import pytest
+
 from lbw_engine.cli import main
-from lbw_engine.cli import run as runmod
+from lbw_engine.errors import InputError
+from lbw_engine.pipeline import run as runmod
 from lbw_engine.rules import load_rules
 from perception.world.groundtruth import expected_operations
 from perception.world.scenario import load
@@ -63,3 +66,46 @@ def test_lbw_watch_exits_0_when_exact_and_1_when_not(tmp_path, monkeypatch, caps
     assert main(["watch", str(SCENARIO), "--out", str(tmp_path / "bad")]) == 1
     assert "at #3: expected PLACE-ON-TABLE, got NO-OP" in capsys.readouterr().err
     assert (tmp_path / "bad" / "actions.json").exists()  # published all the same
+
+
+# Failure attribution (issue #12, class 7): the *first* phase that went wrong is named,
+# and a mismatch between our own phases is a failed task (exit 1), never bad input.
+def _wrong_recognition(monkeypatch):
+    real = runmod.compare_with_truth
+    monkeypatch.setattr(runmod, "compare_with_truth", lambda sc, actions, rules: dict(
+        real(sc, actions, rules), exact=False, difference="at #1: expected PICK, got NO-OP"))
+
+
+def _fail_analysis(monkeypatch):
+    def refuse(seq, rules):
+        raise InputError("no template covers NO-OP here", file="actions.json",
+                         where="operations[1]")
+    monkeypatch.setattr(runmod, "analyze", refuse)
+
+
+def _fail_instantiation(monkeypatch):
+    def mismatch(plan, sc, rules, **kw):
+        raise InputError("the plan uses object 'ghost', which the scenario's teach "
+                         "workspace does not have", file="plan.json", where="root")
+    monkeypatch.setattr(runmod, "execute_plan", mismatch)
+
+
+ATTRIBUTION = [  # (case id, what goes wrong, the phase named first)
+    ("recognition-before-analysis", (_wrong_recognition, _fail_analysis), "recognition"),
+    ("recognition-before-instantiation", (_wrong_recognition, _fail_instantiation),
+     "recognition"),
+    ("analysis-alone", (_fail_analysis,), "analysis"),
+    ("internal-mismatch-is-instantiation", (_fail_instantiation,), "instantiation"),
+]
+
+
+@pytest.mark.parametrize("breaks,phase", [c[1:] for c in ATTRIBUTION],
+                         ids=[c[0] for c in ATTRIBUTION])
+def test_the_first_phase_that_went_wrong_is_named(tmp_path, monkeypatch, capsys, breaks, phase):
+    for brk in breaks:
+        brk(monkeypatch)
+    assert main(["run", str(SCENARIO), "--out", str(tmp_path)]) == 1  # a failed task, not 2
+    verdict = json.loads((tmp_path / "execution.json").read_text())
+    assert verdict["success"] is False and verdict["failure"].startswith(f"{phase}: ")
+    assert f"failed: {phase}: " in capsys.readouterr().err
+    assert (tmp_path / "actions.json").exists()  # what was made before it is kept

@@ -1,13 +1,22 @@
-"""``lbw bench [--count N] [--seed S] [--out FILE] [--jobs J]``: measure the whole pipeline.
+"""``lbw bench``: measure the whole pipeline on seeded random scenarios.
 
 Generates N random scenarios (``perception.world.generator``; scenario i has seed
 S*1000+i and noise level nominal, 2x, 4x in turn), runs watch → analyze →
-execute on each in a process pool, and reports per noise level: exact-sequence
-rate, edit-distance accuracy, segmentation timing error (median, 95th
-percentile), plan correctness (the plan root's SC+ support relations equal the
-true final relations of the moved objects), execution success, real-time
-factors and pixels read per frame. A table on screen, every figure and every
-failing case (seed, structures, what went wrong) in the JSON file.
+execute on each and reports per noise level: exact-sequence rate (raw, and after
+recognition repair, Sec. IX-C2: analysis reads the repaired sequence),
+edit-distance accuracy, segmentation timing error (median, 95th percentile),
+plan correctness (the plan root's SC+ support relations equal the true final
+relations of the moved objects), execution success, real-time factors and pixels
+read per frame. The four rates come with their 95% Wilson intervals.
+
+Where the scenarios run (this process, ``--jobs N`` processes or a Dask cluster
+with ``--cluster``) is ``lbw_engine/cli/cluster.py``; it changes nothing in the
+records but their timings. Two files: ``--out FILE`` (the summary, the failing
+cases, the command) and ``--records FILE`` (JSON lines, one record per scenario,
+sorted by seed: everything but the ``*_seconds`` timings is reproducible from
+the seed and the rules). While it runs, finished records are appended to
+``FILE.partial`` (in the order they finish), which is removed at the end;
+``--resume`` keeps the records of a stopped run's partial file and runs the rest.
 
 The ground truth is consulted only after each phase, for scoring.
 """
@@ -16,16 +25,20 @@ from __future__ import annotations
 
 import argparse
 import concurrent.futures as cf
+import contextlib
+import json
 import math
 import os
 import sys
 import time
 import traceback
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from lbw_engine.cli.cluster import executor, local_workers
 from lbw_engine.errors import InputError
-from lbw_engine.outputs import atomic_write_text, to_json
+from lbw_engine.outputs import OutputDir, atomic_write_text, to_json
 from lbw_engine.report.metrics import (
     compare_sequence,
     format_table,
@@ -35,17 +48,32 @@ from lbw_engine.report.metrics import (
 )
 
 HELP = "benchmark watch → analyze → execute on seeded random scenarios at three noise levels"
+EXIT_CODES = ("0 the benchmark ran (failing scenarios are findings, not errors: the "
+              "figures count them); 2 bad input (one line: place, what is wrong), also when "
+              "--cluster cannot be used; 3 internal error")
 LEVELS = ("nominal", "2x", "4x")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """--count, --seed, --out, --jobs, --rules."""
-    parser.add_argument("--count", type=int, default=30, help="number of scenarios (30)")
-    parser.add_argument("--seed", type=int, default=1, help="seed of the scenario set (1)")
+    """--count, --seed, --out, --records, --jobs, --cluster, --rules, --scenarios."""
+    parser.add_argument("--count", type=int, metavar="N", default=30,
+                        help="number of scenarios (30)")
+    parser.add_argument("--seed", type=int, metavar="N", default=1,
+                        help="seed of the scenario set (1)")
     parser.add_argument("--out", metavar="FILE", default="bench-pipeline.json",
-                        help="JSON results file (bench-pipeline.json)")
-    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                        help="worker processes (default: all cores)")
+                        help="summary JSON file (bench-pipeline.json)")
+    parser.add_argument("--records", metavar="FILE",
+                        help="per-scenario records, JSON lines (default: FILE of --out "
+                             "with the suffix .jsonl)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--jobs", type=int, metavar="N",
+                       help="worker processes on this machine (default: all cores)")
+    where.add_argument("--cluster", metavar="ADDRESS",
+                       help="run on a Dask cluster: a scheduler's tcp://HOST:PORT, or local:N "
+                            "for a local cluster of N workers (needs lbw[cluster])")
+    parser.add_argument("--resume", action="store_true",
+                        help="keep the records that a stopped run of the same command left in "
+                             "the records FILE.partial, and run only the other scenarios")
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
     parser.add_argument("--scenarios", metavar="DIR",
                         help="also write each generated scenario as DIR/gen-SEED-LEVEL.yaml "
@@ -107,9 +135,9 @@ def run_one(task: tuple[int, str, str | None]) -> dict[str, Any]:
 
 def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     """Run the phases on ``sc`` and fill ``rec`` with the figures."""
-    from lbw_engine.cli.execute import execute_plan
-    from lbw_engine.cli.watch import watch
     from lbw_engine.do import plan as planmod
+    from lbw_engine.pipeline.execute import execute_plan
+    from lbw_engine.pipeline.watch import repair, watch
     from lbw_engine.see.actions import to_actions
     from lbw_engine.understand import RelationTable, analyze, parse_actions
     from perception.world.demonstrator import Demonstration
@@ -126,6 +154,10 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     rec["watch_seconds"] = time.perf_counter() - clock
     rec["pixels_per_frame"] = sum(hand.sight.pixels) / max(1, len(hand.sight.pixels))
     rec.update(compare_sequence(truth, actions["operations"]))
+    repaired = repair(actions, rules)  # Sec. IX-C2: analysis reads the repaired sequence
+    rec["repairs"] = len(repaired.repairs)
+    rec["exact_repaired"] = compare_sequence(truth, repaired.actions["operations"])["exact"]
+    actions = repaired.actions
     rec["plan_correct"] = rec["execution_success"] = False
     clock = time.perf_counter()
     try:
@@ -156,26 +188,90 @@ def _progress(done: int, total: int, started: float, exact: int) -> None:
     sys.stderr.flush()
 
 
-def bench(count: int, seed: int, jobs: int, rules_dir: str | None = None) -> dict[str, Any]:
-    """Run the benchmark; returns the JSON document (summary, failures, per-scenario records)."""
-    work = [(s, level, rules_dir) for s, level in tasks(count, seed)]
+TIMINGS = ("watch_seconds", "analyze_seconds", "execute_seconds", "total_seconds")
+
+
+def reproducible(record: dict[str, Any]) -> dict[str, Any]:
+    """A record without its wall-clock timings: what any rerun of its seed must give."""
+    return {k: v for k, v in record.items() if k not in TIMINGS}
+
+
+def lost(task: tuple[int, str, str | None], exc: BaseException) -> dict[str, Any]:
+    """The record of a scenario whose worker died (the task itself catches its own errors)."""
+    seed, level, _ = task
+    return {"seed": seed, "level": level, "structures": [], "touches": 0, "distractors": 0,
+            "error": f"worker lost: {type(exc).__name__}: {exc}"}
+
+
+def run_all(work: list[tuple[int, str, str | None]], pool: cf.Executor | None,
+            partial: Path | None = None, kept: Sequence[dict[str, Any]] = (),
+            ) -> list[dict[str, Any]]:
+    """Run every task here (``pool`` None) or on ``pool``; with ``kept``, the records
+    sorted by seed.
+
+    Each record is also appended to ``partial`` as it arrives (after ``kept``), so a
+    long run that is stopped keeps the scenarios it finished (the caller removes the
+    file at the end).
+    """
     started = time.perf_counter()
-    records: list[dict[str, Any]] = []
-    _progress(0, len(work), started, 0)
-    if jobs <= 1:
-        results = map(run_one, work)
-        for r in results:
-            records.append(r)
-            _progress(len(records), len(work), started, sum(x.get("exact", 0) for x in records))
-    else:
-        with cf.ProcessPoolExecutor(max_workers=jobs) as pool:
-            for fut in cf.as_completed([pool.submit(run_one, w) for w in work]):
-                records.append(fut.result())
-                _progress(len(records), len(work), started,
-                          sum(x.get("exact", 0) for x in records))
+    records: list[dict[str, Any]] = list(kept)
+    total = len(work) + len(kept)
+    with contextlib.ExitStack() as stack:
+        sink = stack.enter_context(partial.open("w", encoding="utf-8")) if partial else None
+        if sink:
+            sink.write(records_text(records))
+
+        def done(rec: dict[str, Any]) -> None:
+            records.append(rec)
+            if sink:
+                sink.write(records_text([rec]))
+                sink.flush()
+            _progress(len(records), total, started, sum(x.get("exact", 0) for x in records))
+
+        _progress(len(records), total, started, sum(x.get("exact", 0) for x in records))
+        if pool is None:
+            for w in work:
+                done(run_one(w))
+        else:
+            futures = {pool.submit(run_one, w): w for w in work}
+            for fut in cf.as_completed(futures):
+                try:
+                    done(fut.result())
+                except Exception as exc:  # a worker process died: a finding, not the end
+                    done(lost(futures[fut], exc))
     sys.stderr.write("\n")
-    records.sort(key=lambda r: r["seed"])
-    return {"count": count, "seed": seed, "jobs": jobs,
+    return sorted(records, key=lambda r: r["seed"])
+
+
+def resumable(partial: Path, wanted: set[tuple[int, str]]) -> list[dict[str, Any]]:
+    """The records of a stopped run's partial file that belong to this scenario set
+    (one per seed; a line torn by the stop is left out and its scenario run again)."""
+    found: dict[int, dict[str, Any]] = {}
+    if partial.is_file():
+        for line in partial.read_text(encoding="utf-8").splitlines():
+            try:
+                rec = json.loads(line)
+            except json.JSONDecodeError:
+                continue
+            if isinstance(rec, dict) and (rec.get("seed"), rec.get("level")) in wanted:
+                found[rec["seed"]] = rec
+    return list(found.values())
+
+
+def bench(count: int, seed: int, jobs: int, rules_dir: str | None = None,
+          cluster: str | None = None, partial: Path | None = None,
+          resume: bool = False) -> dict[str, Any]:
+    """Run the benchmark; returns the summary document, with the records as ``scenarios``.
+
+    ``resume``: keep the records ``partial`` already holds and run only the others.
+    """
+    work = [(s, level, rules_dir) for s, level in tasks(count, seed)]
+    kept = resumable(partial, {w[:2] for w in work}) if resume and partial else []
+    done = {r["seed"] for r in kept}
+    started = time.perf_counter()
+    with executor(jobs, cluster) as (pool, runner):
+        records = run_all([w for w in work if w[0] not in done], pool, partial, kept)
+    return {"count": count, "seed": seed, "runner": runner,
             "wall_seconds": round(time.perf_counter() - started, 1),
             "summary": summarize(records, LEVELS), "failures": failures(records),
             "scenarios": records}
@@ -187,7 +283,8 @@ def failures(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
     for r in records:
         what = []
         if "exact" in r and not r["exact"]:
-            what.append(f"sequence {r['difference']}")
+            mended = " (repaired to the demonstrated one)" if r.get("exact_repaired") else ""
+            what.append(f"sequence {r['difference']}{mended}")
         if "error" in r:
             what.append(f"crashed: {r['error']}")
         else:
@@ -201,24 +298,61 @@ def failures(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
+def records_text(records: list[dict[str, Any]]) -> str:
+    """JSON lines: one record per scenario, keys sorted so reruns compare line by line."""
+    return "".join(json.dumps(r, sort_keys=True, ensure_ascii=False) + "\n" for r in records)
+
+
+def _files(args: argparse.Namespace) -> tuple[Path, Path]:
+    """The summary and records paths; exit 2 if either names a folder or they coincide."""
+    out = Path(args.out)
+    recs = Path(args.records) if args.records else out.with_suffix(".jsonl")
+    if recs == out:
+        raise InputError("the records file must differ from the summary file", where="--records")
+    for path, flag in ((out, "--out"), (recs, "--records")):
+        if path.is_dir():
+            raise InputError("is a folder; give a file name", file=path, where=flag)
+    return out, recs
+
+
+def _command(args: argparse.Namespace) -> str:
+    """The command line that reproduces the run's records."""
+    where = f"--cluster {args.cluster}" if args.cluster else f"--jobs {args.jobs}"
+    rules = f" --rules {args.rules}" if args.rules else ""
+    return f"lbw bench --count {args.count} --seed {args.seed} {where}{rules}"
+
+
 def run(args: argparse.Namespace) -> int:
-    """Run, print the table and the failing cases, write the JSON file."""
+    """Run, print the table and the failing cases, write the summary and the records."""
+    if args.jobs is None:
+        args.jobs = os.cpu_count() or 1
     if args.count < 1 or args.jobs < 1:
         raise InputError("--count and --jobs must be at least 1", where="arguments")
+    if args.cluster:
+        local_workers(args.cluster)  # a bad local:N is bad input before any work
+    out, recs = _files(args)
+    rules = str(Path(args.rules).resolve()) if args.rules else None  # workers may start elsewhere
     if args.scenarios:
         from perception.world.generator import generate
 
-        folder = Path(args.scenarios)
-        for seed, level in tasks(args.count, args.seed):
-            atomic_write_text(folder / f"gen-{seed}-{level}.yaml", generate(seed, level).text)
-    doc = bench(args.count, args.seed, args.jobs, args.rules)
-    doc["command"] = f"lbw bench --count {args.count} --seed {args.seed} --jobs {args.jobs}"
-    atomic_write_text(args.out, to_json(doc))
+        with OutputDir(args.scenarios, inputs=[rules] if rules else [],
+                       flag="--scenarios") as folder:
+            for seed, level in tasks(args.count, args.seed):
+                folder.write_text(f"gen-{seed}-{level}.yaml", generate(seed, level).text)
+    partial = recs.with_name(recs.name + ".partial")
+    partial.parent.mkdir(parents=True, exist_ok=True)
+    doc = bench(args.count, args.seed, args.jobs, rules, args.cluster, partial, args.resume)
+    records = doc.pop("scenarios")
+    doc["command"] = _command(args)
+    doc["records"] = str(recs)
+    atomic_write_text(recs, records_text(records))
+    atomic_write_text(out, to_json(doc))
+    partial.unlink(missing_ok=True)
     print(format_table(doc["summary"]))
-    print(f"{doc['count']} scenarios in {doc['wall_seconds']:.0f} s on {doc['jobs']} "
-          f"process(es); {len(doc['failures'])} failing case(s):")
+    print(f"{doc['count']} scenarios in {doc['wall_seconds']:.0f} s on {doc['runner']}; rates "
+          f"with 95% Wilson intervals; {len(doc['failures'])} failing case(s):")
     for f in doc["failures"]:
         print(f"  seed {f['seed']} ({f['level']}, {'+'.join(f['structures'])}, "
               f"{f['touches']} touch(es)): {'; '.join(f['what'])}")
-    print(f"figures and per-scenario records: {args.out}")
+    print(f"summary: {out}; per-scenario records: {recs}")
     return 0

@@ -11,13 +11,17 @@ from __future__ import annotations
 import argparse
 
 from lbw_engine.rules import RULE_FILES, check_detectors, load_rules
+from lbw_engine.understand.plottext import check_grammar as check_plot_grammar
 
 HELP = "validate rule files (exit 2 with file:line on the first problem)"
+EXIT_CODES = ("0 the rule files are valid; 2 a rule file is bad (one line: file, line, what is "
+              "wrong); 3 internal error")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """RULES_DIR is optional: the bundled rules/ by default."""
-    parser.add_argument("rules_dir", nargs="?", metavar="RULES_DIR", help="folder of rule files")
+    """DIR is optional: the bundled rules/ by default."""
+    parser.add_argument("rules_dir", nargs="?", metavar="DIR",
+                        help="folder of rule files (default: bundled rules/)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -26,6 +30,8 @@ def run(args: argparse.Namespace) -> int:
 
     rules = load_rules(args.rules_dir)
     check_detectors(rules, vocabulary())
+    # plot.lark must read back what lbw writes to plan.txt (it compiled when loading)
+    check_plot_grammar(rules.analysis.plot_grammar_file, rules.roles.multiple)
     commands = rules.commands
     print(
         f"lbw check: {rules.directory}: {len(RULE_FILES)} rule files OK "

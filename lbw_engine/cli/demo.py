@@ -16,6 +16,8 @@ from lbw_engine.outputs import OutputDir
 from lbw_engine.paths import bundled_scenario
 
 HELP = "run the bundled Build-Table task end to end and show the result"
+EXIT_CODES = ("0 success; 1 a phase failed or did not verify (the files are still written); "
+              "2 bad input (one line: file, place, what is wrong); 3 internal error")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -55,13 +57,14 @@ def top_of_plan(plan: dict[str, Any]) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     """Run the pipeline on scenarios/build-table.yaml and print the paper's figures."""
-    from lbw_engine.cli.run import pipeline, publish
+    from lbw_engine.pipeline.run import publish
+    from lbw_engine.pipeline.run import run as pipeline
     from perception.world.scenario import load
 
     scenario = load(bundled_scenario("build-table"))
     print(f"lbw demo: watching '{scenario.name}' through the top and side cameras ...", flush=True)
-    result = pipeline(scenario, args.rules)
-    with OutputDir(args.out) as out:
+    with OutputDir(args.out, inputs=[args.rules] if args.rules else []) as out:
+        result = pipeline(scenario, args.rules)
         publish(result, out)
     rec = result.recognition
     names = [str(op).lower() for op in rec["recognized"]]

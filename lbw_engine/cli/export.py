@@ -16,6 +16,8 @@ from lbw_engine.outputs import OutputDir
 from lbw_engine.paths import default_rules_dir
 
 HELP = "export a learned plan as PDDL, HDDL, a behaviour tree (YAML) or a Graphviz picture"
+EXIT_CODES = ("0 the files were written; 2 bad input (one line: file, place, what is wrong); "
+              "3 internal error")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -23,7 +25,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     from lbw_engine.export import FORMATS
 
     p.add_argument("plan", metavar="PLAN.json", help="plan.json written by `lbw analyze`")
-    p.add_argument("--to", required=True, choices=sorted(FORMATS), help="the format")
+    p.add_argument("--to", required=True, choices=sorted(FORMATS), metavar="FORMAT",
+                   help=f"the format: {', '.join(sorted(FORMATS))}")
     p.add_argument("--out", metavar="DIR", required=True, help="output directory")
     p.add_argument("--rules", metavar="DIR", default=None,
                    help="rules folder (default: the bundled rules/)")

@@ -11,6 +11,8 @@ from lbw_engine.see.actions import to_actions
 from lbw_engine.see.replay import recognize_trace
 
 HELP = "recognize the action sequence of a recorded event trace; writes actions.json"
+EXIT_CODES = ("0 actions.json written; 2 bad input (one line: file, place, what is wrong); "
+              "3 internal error")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -24,7 +26,7 @@ def run(args: argparse.Namespace) -> int:
     """Replay the trace through the interpreter and publish actions.json."""
     rules = load_rules(args.rules)
     recognizer, trace = recognize_trace(args.trace, rules)
-    with OutputDir(args.out) as out:
+    with OutputDir(args.out, inputs=[args.trace, *([args.rules] if args.rules else [])]) as out:
         path = out.write_json("actions.json", to_actions(recognizer))
     ops = [op["operation"] for op in to_actions(recognizer)["operations"]]
     unused = trace.unused()

@@ -1,9 +1,9 @@
 """``lbw watch SCENARIO --out DIR [--rules DIR]``: recognize a demonstration from images.
 
-The world side (demonstrator and renderer, ``perception.world.stream``) produces
-frames one at a time; the recognizer (``perception.vision.envnodes.registry.watch_frames``)
-receives only that frame iterator, the camera models, the shape database and
-the teach names as a naming hint (docs/seeing.md). Writes ``actions.json``.
+lbw_engine.pipeline.watch renders the demonstration frame by frame and the
+recognizer reads only those frames (docs/seeing.md). Writes ``actions.json``:
+the recognized sequence after recognition repair (Sec. IX-C2, docs/repair.md),
+with every change in ``repairs`` and printed, one line each.
 """
 
 from __future__ import annotations
@@ -12,12 +12,16 @@ import argparse
 import sys
 from pathlib import Path
 
-from lbw_engine.errors import InputError
+from lbw_engine.guard import MAX_FPS, Place, number
 from lbw_engine.outputs import OutputDir
+from lbw_engine.pipeline.watch import repair, watch
 from lbw_engine.rules import load_rules
 from lbw_engine.see.actions import to_actions
 
 HELP = "watch a scenario's demonstration through the two cameras; writes actions.json"
+EXIT_CODES = ("0 recognized as demonstrated (after recognition repair); 1 recognition failed "
+              "or differs from the demonstration (actions.json is still written); 2 bad input "
+              "(one line: file, place, what is wrong); 3 internal error")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -25,18 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
-    parser.add_argument("--fps", type=float, default=30.0, help="frames per second (30)")
-
-
-def watch(scenario, rules, fps: float = 30.0, pixel_noise: float | None = None):
-    """Simulate, render and recognize online; returns (recognizer, hand state)."""
-    from perception.vision.camera import default_cameras
-    from perception.vision.envnodes.registry import watch_frames
-    from perception.world.stream import demonstration_frames, teach_names
-
-    cameras = default_cameras()
-    frames = demonstration_frames(scenario, cameras, fps=fps, pixel_noise=pixel_noise)
-    return watch_frames(frames, cameras, scenario.shapes, rules, teach_names(scenario))
+    parser.add_argument("--fps", type=float, metavar="N", default=30.0,
+                        help="frames per second (30)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -44,16 +38,22 @@ def run(args: argparse.Namespace) -> int:
     does not verify against the scenario's demonstration."""
     from perception.world.scenario import load
 
-    if args.fps <= 0:
-        raise InputError("--fps must be positive", where="arguments")
+    number(args.fps, Place(where="--fps"), 0, MAX_FPS, above=True, unit="frames per second")
     rules = load_rules(args.rules)
     scenario = load(Path(args.scenario))
-    recognizer, _ = watch(scenario, rules, fps=args.fps)
-    actions = to_actions(recognizer)
-    with OutputDir(args.out) as out:
+    inputs = [args.scenario, *([args.rules] if args.rules else [])]
+    with OutputDir(args.out, inputs=inputs) as out:  # a bad --out is refused before watching
+        recognizer, _ = watch(scenario, rules, fps=args.fps)
+        raw = to_actions(recognizer)
+        repaired = repair(raw, rules)  # Sec. IX-C2; every change is in actions.json `repairs`
+        actions = repaired.actions
         path = out.write_json("actions.json", actions)
     ops = [op["operation"] for op in actions["operations"]]
     print(f"lbw watch: {len(actions['objects'])} objects, {len(ops)} operations -> {path}")
+    from lbw_engine.pipeline.run import repair_lines
+
+    for line in repair_lines(actions):
+        print(f"lbw watch: {line}")
     problems = []
     if not actions["objects"]:
         problems.append("no objects were located")
@@ -62,9 +62,9 @@ def run(args: argparse.Namespace) -> int:
     elif any(op is None for op in ops):
         problems.append("some motions could not be classified")
     else:  # evaluation only: the scenario says what was demonstrated
-        from lbw_engine.cli.run import compare_with_truth
+        from lbw_engine.pipeline.run import compare_with_truth, with_repair
 
-        same = compare_with_truth(scenario, actions, rules)
+        same = with_repair(compare_with_truth(scenario, raw, rules), repaired)["repair"]
         if not same["exact"]:
             problems.append(f"the sequence is not the demonstrated one ({same['difference']})")
     if problems:

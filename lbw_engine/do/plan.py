@@ -1,24 +1,32 @@
 """Reading plan.json (design.md "Plan") for execution, with checks that name the place.
 
-Only what execution needs is checked: the root exists, every operator has a
-class and a well-formed plot, plots reference operators or recognized
-operation leaves, no operator contains itself, and relations have the form
+The file is checked as strictly as a scenario: no unknown keys; the root
+exists; every operator has a class of design.md and a well-formed plot; plots
+reference operators or recognized operation leaves; no operator contains
+itself and operators nest at most ``MAX_NESTING`` deep; ``next`` names
+operators; relations have the form
 ``[type, subject, object(s), {"at": [x, y, z], "wrt": name}?]``.
 """
 
 from __future__ import annotations
 
-import json
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from lbw_engine.errors import InputError, read_input
+from lbw_engine.errors import InputError
+from lbw_engine.guard import clip, json_document, known_keys, read_text, shorten
+from lbw_engine.rules.analysis import PLAN_CLASSES
 
 PLOT_HEADS = ("$sequence", "$parallel", "$action")
 SLOTS = ("base", "target", "special")
 RELATION_SLOTS = ("sc_plus", "sc_minus", "si", "sp")
+TOP_KEYS = ("root", "operators", "objects")
+OPERATOR_KEYS = ("class", *SLOTS, *RELATION_SLOTS, "plot", "next")
+# Operators inside operators: a learned plan nests a few levels (a tower of n
+# blocks about n); far deeper is no plan of a 600 x 400 x 300 mm workspace.
+MAX_NESTING = 100
 # A recognized operation's name is its operation in lower case plus a number (pick01).
 LEAF_NAME = re.compile(r"([a-z][a-z-]*?)-?(\d+)\Z")
 
@@ -61,12 +69,7 @@ class Plan:
 def load(path: str | Path) -> Plan:
     """Read and check a plan.json file."""
     path = Path(path)
-    text = read_input(path, expected="a plan.json file")
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"invalid JSON: {exc.msg}", file=path, line=exc.lineno) from None
-    return parse(doc, str(path))
+    return parse(json_document(read_text(path, expected="a plan.json file"), path), str(path))
 
 
 def parse(doc: Any, file: str = "<plan>") -> Plan:
@@ -76,33 +79,45 @@ def parse(doc: Any, file: str = "<plan>") -> Plan:
 
     if not isinstance(doc, dict) or "root" not in doc or "operators" not in doc:
         raise fail("a plan must be an object with 'root' and 'operators'", "")
+    known_keys(doc, TOP_KEYS, "", fail)
     ops_raw = doc["operators"]
     if not isinstance(ops_raw, dict):
         raise fail("must be an object of operator name → operator", "operators")
     operators = {name: _operator(name, body, fail) for name, body in ops_raw.items()}
-    if doc["root"] not in operators:
-        raise fail(f"root operator '{doc['root']}' is not among the operators", "root")
+    root = doc["root"]
+    if not isinstance(root, str) or root not in operators:
+        raise fail(f"root operator {shorten(root)} is not among the operators", "root")
+    for name, body in ops_raw.items():
+        for i, nxt in enumerate(body.get("next", [])):
+            if nxt not in operators:
+                raise fail(f"{shorten(nxt)} is not an operator of the plan",
+                           f"operators.{clip(name)}.next[{i}]")
     objects = doc.get("objects")
     if objects is not None:
         _objects(objects, fail)
     leaves: dict[str, str] = {}
-    _check_plot_refs(doc["root"], operators, leaves, fail, [])
-    return Plan(doc["root"], operators, objects, leaves, file)
+    _check_plot_refs(root, operators, leaves, fail)
+    return Plan(root, operators, objects, leaves, file)
 
 
 def _operator(name: str, body: Any, fail) -> Operator:
     """One operator entry."""
-    w = f"operators.{name}"
-    if not isinstance(body, dict) or not isinstance(body.get("class"), str):
+    w = f"operators.{clip(name)}"
+    if not isinstance(body, dict) or "class" not in body:
         raise fail("must be an object with a 'class'", w)
+    known_keys(body, OPERATOR_KEYS, w, fail)
+    if body["class"] not in PLAN_CLASSES:
+        raise fail(f"class {shorten(body['class'])} is not one of {', '.join(PLAN_CLASSES)}",
+                   f"{w}.class")
     if "plot" not in body:
         raise fail("missing 'plot'", w)
     slots = {}
-    for s in SLOTS:
+    for s in (*SLOTS, "next"):
         v = body.get(s, [])
         if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
-            raise fail("must be a list of object names", f"{w}.{s}")
+            raise fail(f"must be a list of names, got {shorten(v)}", f"{w}.{s}")
         slots[s] = tuple(v)
+    del slots["next"]
     rels = {}
     for s in RELATION_SLOTS:
         v = body.get(s, [])
@@ -156,20 +171,36 @@ def _check_plot_shape(plot: Any, fail, where: str) -> None:
         _check_plot_shape(sub, fail, f"{where}[{i}]")
 
 
-def _check_plot_refs(name: str, ops: dict[str, Operator], leaves: dict[str, str], fail,
-                     path: list[str]) -> None:
-    """Operators do not contain themselves; leaf names read as operation + number."""
-    if name in path:
-        raise fail(f"operator '{name}' contains itself ({' → '.join([*path, name])})",
-                   f"operators.{name}.plot")
-    for leaf in action_names(ops[name].plot):
+def _check_plot_refs(root: str, ops: dict[str, Operator], leaves: dict[str, str],
+                     fail) -> None:
+    """Operators do not contain themselves and nest at most MAX_NESTING deep; leaf names
+    read as operation + number. Depth first without recursion (a plan is user data)."""
+    done: set[str] = set()
+    path: list[str] = [root]
+    pending: list[list[str]] = [list(reversed(action_names(ops[root].plot)))]
+    while pending:
+        if not pending[-1]:
+            done.add(path.pop())
+            pending.pop()
+            continue
+        leaf, name = pending[-1].pop(), path[-1]
         if leaf in ops:
-            _check_plot_refs(leaf, ops, leaves, fail, [*path, name])
+            if leaf in path:
+                cycle = " → ".join([*path[path.index(leaf):], leaf])
+                raise fail(f"operator {shorten(leaf)} contains itself ({clip(cycle, 120)})",
+                           f"operators.{clip(name)}.plot")
+            if leaf in done:
+                continue
+            if len(path) >= MAX_NESTING:
+                raise fail(f"operators nest more than {MAX_NESTING} deep",
+                           f"operators.{clip(name)}.plot")
+            path.append(leaf)
+            pending.append(list(reversed(action_names(ops[leaf].plot))))
             continue
         m = LEAF_NAME.match(leaf)
         if not m:
-            raise fail(f"'{leaf}' is neither an operator nor a recognized operation name "
-                       "(operation + number, e.g. pick01)", f"operators.{name}.plot")
+            raise fail(f"{shorten(leaf)} is neither an operator nor a recognized operation name "
+                       "(operation + number, e.g. pick01)", f"operators.{clip(name)}.plot")
         leaves[leaf] = m.group(1).upper()
 
 
@@ -185,8 +216,11 @@ def _objects(objects: Any, fail) -> None:
     if not isinstance(objects, dict):
         raise fail("must be an object of name → {shape, position}", "objects")
     for name, o in objects.items():
+        where = f"objects.{clip(name)}"
         if not isinstance(o, dict) or not isinstance(o.get("shape"), str):
-            raise fail("must be an object with a 'shape'", f"objects.{name}")
+            raise fail("must be an object with a 'shape'", where)
+        known_keys(o, ("shape", "position"), where, fail)
         p = o.get("position")
-        if p is not None and (not isinstance(p, list) or len(p) != 3):
-            raise fail("'position' must be [x, y, z]", f"objects.{name}.position")
+        if p is not None and (not isinstance(p, list) or len(p) != 3 or not all(
+                isinstance(c, int | float) and not isinstance(c, bool) for c in p)):
+            raise fail(f"'position' must be [x, y, z], got {shorten(p)}", f"{where}.position")

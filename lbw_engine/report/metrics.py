@@ -9,9 +9,17 @@ sequence's last operation count as one (``collapse_tail``).
 
 from __future__ import annotations
 
+import math
 import statistics
 from collections.abc import Sequence
 from typing import Any
+
+# The two-sided 95% point of the standard normal distribution.
+Z95 = statistics.NormalDist().inv_cdf(0.975)
+# Figures that are a proportion of scenarios, each with its Wilson interval in the summary.
+# ``exact_repaired``: exact after recognition repair (Sec. IX-C2, docs/repair.md).
+RATES = {"exact_sequence_rate": "exact", "exact_repaired_rate": "exact_repaired",
+         "plan_correct_rate": "plan_correct", "execution_success_rate": "execution_success"}
 
 
 def collapse_tail(ops: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -124,6 +132,21 @@ def percentile(values: Sequence[float], q: float) -> float | None:
     return xs[lo] + (xs[hi] - xs[lo]) * (pos - lo)
 
 
+def wilson(successes: int, n: int, z: float = Z95) -> tuple[float, float]:
+    """Wilson's score interval for a proportion of ``successes`` in ``n`` trials.
+
+    Wilson (1927); method 3 of Newcombe (1998). Unlike the normal approximation it
+    stays inside [0, 1] and is not empty at 0 or n successes, which is where the bench
+    lives (100% at nominal noise). No interval is known from no trials: (0, 1).
+    """
+    if n <= 0:
+        return 0.0, 1.0
+    p, z2 = successes / n, z * z
+    centre = (p + z2 / (2 * n)) / (1 + z2 / n)
+    half = z * math.sqrt(p * (1 - p) / n + z2 / (4 * n * n)) / (1 + z2 / n)
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
 def summarize(records: list[dict[str, Any]], levels: Sequence[str]) -> dict[str, dict]:
     """Per noise level: rates, accuracy, timing error percentiles, speed, pixels per frame."""
     out = {}
@@ -137,6 +160,8 @@ def summarize(records: list[dict[str, Any]], levels: Sequence[str]) -> dict[str,
         out[level] = {
             "scenarios": len(rs), "crashed": len(rs) - len(ok),
             "exact_sequence_rate": _rate(rs, "exact"),
+            "exact_repaired_rate": _rate(rs, "exact_repaired"),
+            "repairs": sum(r.get("repairs", 0) for r in ok),
             "edit_accuracy": statistics.fmean(r["accuracy"] for r in ok) if ok else 0.0,
             "timing_error_median_s": percentile(timing, 50),
             "timing_error_p95_s": percentile(timing, 95),
@@ -147,6 +172,9 @@ def summarize(records: list[dict[str, Any]], levels: Sequence[str]) -> dict[str,
             "pixels_per_frame": statistics.fmean(r["pixels_per_frame"] for r in ok) if ok
             else None,
         }
+        for figure, key in RATES.items():  # 95% intervals of the proportions
+            out[level][figure.replace("_rate", "_ci95")] = \
+                list(wilson(sum(1 for r in rs if r.get(key)), len(rs)))
     return out
 
 
@@ -161,20 +189,28 @@ def _ratio(rs: list[dict], num: str, den: str) -> float | None:
     return sum(r[num] for r in rs) / d if d else None
 
 
+def _with_ci(s: dict[str, Any], figure: str) -> str:
+    """A rate and its 95% interval, e.g. ``94% (80-98)``."""
+    lo, hi = s.get(figure.replace("_rate", "_ci95"), (None, None))
+    rate = format(s[figure], ".0%")
+    return rate if lo is None else f"{rate} ({lo * 100:.0f}-{hi * 100:.0f})"
+
+
 def format_table(summary: dict[str, dict]) -> str:
-    """The per-level figures as a plain text table."""
-    rows = [("level", "n", "exact", "edit-acc", "t-err med", "t-err p95", "plan ok", "exec ok",
-             "RTF watch", "RTF all", "px/frame")]
+    """The per-level figures as a plain text table; rates with their 95% Wilson intervals."""
+    rows = [("level", "n", "exact", "exact rep", "edit-acc", "t-err med", "t-err p95",
+             "plan ok", "exec ok", "RTF watch", "RTF all", "px/frame")]
 
     def f(v: Any, fmt: str) -> str:
         """Format or dash."""
         return "-" if v is None else format(v, fmt)
 
     for level, s in summary.items():
-        rows.append((level, str(s["scenarios"]), f(s["exact_sequence_rate"], ".0%"),
-                     f(s["edit_accuracy"], ".1%"), f(s["timing_error_median_s"], ".2f"),
-                     f(s["timing_error_p95_s"], ".2f"), f(s["plan_correct_rate"], ".0%"),
-                     f(s["execution_success_rate"], ".0%"), f(s["realtime_factor_watch"], ".1f"),
+        rows.append((level, str(s["scenarios"]), _with_ci(s, "exact_sequence_rate"),
+                     _with_ci(s, "exact_repaired_rate"), f(s["edit_accuracy"], ".1%"),
+                     f(s["timing_error_median_s"], ".2f"),
+                     f(s["timing_error_p95_s"], ".2f"), _with_ci(s, "plan_correct_rate"),
+                     _with_ci(s, "execution_success_rate"), f(s["realtime_factor_watch"], ".1f"),
                      f(s["realtime_factor_pipeline"], ".1f"), f(s["pixels_per_frame"], ".0f")))
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows)

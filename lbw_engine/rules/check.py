@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import shorten
 from lbw_engine.rules import records as R
 from lbw_engine.rules.reader import listing
 
@@ -100,15 +101,17 @@ def _check_effects(rules: R.RuleSet) -> None:
         bound = set(rule.bind)
         for name, value in rule.bind.items():
             feature = value.get("to", value.get("found")) if isinstance(value, dict) else None
-            if feature is not None and feature not in rules.features:
-                raise rule.at.error(f"feature {feature!r} of binding {name!r} does not exist")
+            if feature is not None and (not isinstance(feature, str)
+                                        or feature not in rules.features):
+                raise rule.at.error(f"feature {shorten(feature)} of binding {name!r} does not "
+                                    "exist")
 
         def var(text: str, at: R.Where, star_ok: bool = False, bound=bound, op=op) -> None:
             """A template term must be '*' or a variable the rule binds."""
             if text == "*":
                 return
-            if not text.startswith("$"):
-                raise at.error(f"{text!r} is neither a variable ($name) nor '*'")
+            if not isinstance(text, str) or not text.startswith("$"):
+                raise at.error(f"{shorten(text)} is neither a variable ($name) nor '*'")
             name = text[1:-1] if star_ok and text.endswith("*") else text[1:]
             if name not in bound:
                 raise at.error(f"variable ${name} is not bound in 'bind' of {op}")
@@ -122,8 +125,8 @@ def _check_effects(rules: R.RuleSet) -> None:
                 var(tpl.when[1], tpl.at)
         for key, value in rule.move.items():
             if key == "measured":
-                if value not in rules.features:
-                    raise rule.at.error(f"feature {value!r} in move does not exist")
+                if not isinstance(value, str) or value not in rules.features:
+                    raise rule.at.error(f"feature {shorten(value)} in move does not exist")
             else:
                 var(value, rule.at)
 

@@ -18,10 +18,10 @@ from functools import lru_cache
 from pathlib import Path
 
 from lark import Lark, Token
-from lark.exceptions import GrammarError, LarkError
 from lark.lexer import Lexer
 
-from lbw_engine.errors import InputError, read_input
+from lbw_engine.errors import InputError
+from lbw_engine.guard import lark_grammar, read_text
 from lbw_engine.rules.reader import listing
 
 # The rules and aliases the plot reader (lbw_engine.understand.plottext) transforms.
@@ -88,24 +88,15 @@ def _text(path: Path, what: str) -> str:
     """A grammar file's text (UTF-8), with the file named on any failure."""
     if not path.is_file():
         raise InputError(f"the {what} is missing", file=path)
-    return read_input(path, noun=what, expected=f"the {what}")
-
-
-def _first_line(exc: Exception) -> str:
-    """The first line of a Lark error, for a one-line message."""
-    lines = str(exc).strip().splitlines()
-    return lines[0] if lines else exc.__class__.__name__
+    return read_text(path, noun=what, expected=f"the {what}")
 
 
 @lru_cache(maxsize=8)
 def _compile_templates(path: Path, mtime: float, start: str) -> Templates:
     del mtime  # part of the cache key only: an edited file is recompiled
     text = _text(path, "template grammar")
-    try:
-        parser = Lark(text, parser="lalr", lexer=WordLexer, start=start, strict=True,
-                      keep_all_tokens=True)
-    except (GrammarError, LarkError, re.error) as exc:
-        raise InputError(f"bad template grammar: {_first_line(exc)}", file=path) from None
+    parser = lark_grammar(text, path, "template grammar", parser="lalr", lexer=WordLexer,
+                          start=start, strict=True, keep_all_tokens=True)
     for term in parser.terminals:  # a /regex/ the lexer could not compile fails at use
         if term.pattern.type != "str":
             try:
@@ -128,10 +119,7 @@ def compile_templates(path: Path, start: str) -> Templates:
 def _compile_plot(path: Path, mtime: float) -> Lark:
     del mtime
     text = _text(path, "plot grammar")
-    try:
-        parser = Lark(text, parser="lalr", propagate_positions=False)
-    except (GrammarError, LarkError, re.error) as exc:
-        raise InputError(f"bad plot grammar: {_first_line(exc)}", file=path) from None
+    parser = lark_grammar(text, path, "plot grammar", parser="lalr", propagate_positions=False)
     defined = {r.origin.name for r in parser.rules} | {r.alias for r in parser.rules if r.alias}
     missing = sorted(PLOT_NAMES - defined)
     if missing:

@@ -9,11 +9,11 @@ mistake reads the same wherever it is made.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Any, NoReturn
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import Place, number, shorten
 from lbw_engine.yamlio import line_of, load_file
 
 
@@ -78,20 +78,20 @@ class Reader:
         for key in data:
             if key not in allowed:
                 names = listing(sorted(allowed)) or "none"
-                self.fail(f"unknown key {key!r} in {what} (allowed: {names})", data, key,
+                self.fail(f"unknown key {shorten(key)} in {what} (allowed: {names})", data, key,
                           _path(where, key) if where else None)
         for key in required:
             if key not in data:
                 self.fail(f"{what} lacks the required key {key!r}", data, None, where)
 
     # -- values -------------------------------------------------------------------------
-    def name(self, data: dict, key: str, what: str) -> str:
-        """``data[key]`` must be a non-empty string."""
-        value = data.get(key)
+    def name(self, data: dict | list, key: str | int, what: str) -> str:
+        """``data[key]`` (a mapping's key or a list's index) must be a non-empty string."""
+        value = _get(data, key)
         if value is True:
             self.fail(f"{what} {key!r} reads as a boolean; quote the name", data, key)
         if not isinstance(value, str) or not value:
-            self.fail(f"{what} {key!r} must be a name, got {value!r}", data, key)
+            self.fail(f"{what} {key!r} must be a name, got {shorten(value)}", data, key)
         return value
 
     def names(self, data: Any, key: Any, what: str, allowed: Any = None,
@@ -102,26 +102,16 @@ class Reader:
             self.fail(f"{what} must be a list of names", data, key, where)
         for i, item in enumerate(value):
             if allowed is not None and item not in allowed:
-                self.fail(f"unknown name {item!r} (allowed: {listing(allowed)})", value, i,
+                self.fail(f"unknown name {shorten(item)} (allowed: {listing(allowed)})", value, i,
                           _path(where, i) if where else None)
         return tuple(value)
 
     def number(self, data: Any, key: Any, what: str, low: float | None = None,
-               high: float | None = None, where: str | None = None) -> float:
+               high: float | None = None, where: str | None = None, *, above: bool = False,
+               unit: str = "") -> float:
         """``data[key]`` must be a finite number, within [low, high] where given."""
-        value = data[key] if not isinstance(data, dict) else data.get(key)
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            self.fail(f"{what} must be a number, got {value!r}", data, key, where)
-        try:
-            number = float(value)
-        except OverflowError:
-            self.fail(f"{what} is too large a number", data, key, where)
-        if not math.isfinite(number):
-            self.fail(f"{what} must be a finite number", data, key, where)
-        if (low is not None and number < low) or (high is not None and number > high):
-            self.fail(f"{what} must be within {_range(low, high)}, got {value!r}", data, key,
-                      where)
-        return number
+        place = Place(self.file, line_of(data, key), where or what)
+        return number(_get(data, key), place, low, high, above=above, unit=unit)
 
     def vector(self, data: Any, key: Any, n: int, what: str, low: float | None = None,
                high: float | None = None, where: str | None = None) -> tuple[float, ...]:
@@ -129,7 +119,7 @@ class Reader:
         value = data[key]
         if not isinstance(value, list) or len(value) != n:
             self.fail(f"{what} must be a list of {n} numbers", data, key, where)
-        return tuple(self.number(value, i, f"{what}[{i}]", low, high, _path(where, i))
+        return tuple(self.number(value, i, f"{what}[{i}]", low, high, _path(where or what, i))
                      for i in range(n))
 
     def boolean(self, data: dict, key: str, what: str, default: bool) -> bool:
@@ -143,12 +133,12 @@ class Reader:
         """``value`` must be in ``allowed`` (a collection of names)."""
         if isinstance(value, list | dict) or value not in allowed:
             names = listing(sorted(str(a) for a in allowed))
-            self.fail(f"{what} {value!r} does not exist (known: {names})", container, key)
+            self.fail(f"{what} {shorten(value)} does not exist (known: {names})", container, key)
         return value
 
 
-def _range(low: float | None, high: float | None) -> str:
-    """[low, high] for messages."""
-    if low is not None and high is not None:
-        return f"{low:g}..{high:g}"
-    return f">= {low:g}" if low is not None else f"<= {high:g}"
+def _get(data: Any, key: Any) -> Any:
+    """``data[key]`` of a mapping or a list; None when absent."""
+    if isinstance(data, list):
+        return data[key] if isinstance(key, int) and 0 <= key < len(data) else None
+    return data.get(key) if isinstance(data, dict) else None

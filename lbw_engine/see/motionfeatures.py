@@ -17,13 +17,20 @@ def speed_class(speed: float, low: float, high: float) -> str:
     return "within"
 
 
-def direction_class(velocity: Sequence[float], down: float, up: float) -> str:
-    """Angle from straight down (footnote 11): <= A_D down, >= A_U up, else lateral."""
+def down_angle(velocity: Sequence[float]) -> float | None:
+    """Degrees between ``velocity`` and straight down (footnote 11); None when at rest."""
     vx, vy, vz = (float(c) for c in velocity)
     norm = math.sqrt(vx * vx + vy * vy + vz * vz)
     if norm == 0.0:
+        return None
+    return math.degrees(math.acos(max(-1.0, min(1.0, -vz / norm))))
+
+
+def direction_class(velocity: Sequence[float], down: float, up: float) -> str:
+    """Angle from straight down (footnote 11): <= A_D down, >= A_U up, else lateral."""
+    angle = down_angle(velocity)
+    if angle is None:
         return "lateral"
-    angle = math.degrees(math.acos(max(-1.0, min(1.0, -vz / norm))))
     if angle <= down:
         return "down"
     if angle >= up:

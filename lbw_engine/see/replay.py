@@ -14,7 +14,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from lbw_engine.errors import InputError, read_input
+from lbw_engine.errors import InputError
+from lbw_engine.guard import json_document, read_text, shorten
 from lbw_engine.rules import RuleSet
 from lbw_engine.see.detectors import ActView, Detection, ObjectInfo, Query
 
@@ -105,7 +106,7 @@ class ReplayDetector:
         for name in data.get("found", []):
             if name not in known:
                 raise self.trace.error(
-                    rec, f"'found' names {name!r}, which is not a located object"
+                    rec, f"'found' names {shorten(name)}, which is not a located object"
                 )
         return Detection(
             found=tuple(data.get("found", ())),
@@ -156,44 +157,49 @@ def _check_record(path, line: int, data: dict, rules: RuleSet) -> Record:
     keys = EVENT_KEYS if "event" in data else DIFF_KEYS
     for key in data:
         if key not in keys:
-            raise bad(f"unknown key {key!r} (allowed: {sorted(keys)})")
+            raise bad(f"unknown key {shorten(key)} (allowed: {sorted(keys)})")
     if "detector" in data:
         name = data["detector"]
-        if name not in rules.detectors or rules.detectors[name].builtin:
-            raise bad(f"detector {name!r} is not a replayable detector of the rules")
+        if not isinstance(name, str) or name not in rules.detectors or \
+                rules.detectors[name].builtin:
+            raise bad(f"detector {shorten(name)} is not a replayable detector of the rules")
         if "at" in data:
             _vec(path, line, data["at"], "'at'")
         return Record(line, float(t), None, name, data)
     event = data["event"]
-    if event not in rules.events:
-        raise bad(f"event {event!r} does not exist in the rules")
+    if not isinstance(event, str) or event not in rules.events:
+        raise bad(f"event {shorten(event)} does not exist in the rules")
     if "value" in data and event in rules.motion_features.ranges:
         if data["value"] not in rules.motion_features.values():
-            raise bad(f"value {data['value']!r} is not a Table IV motion value")
+            raise bad(f"value {shorten(data['value'])} is not a Table IV motion value")
     for key in ("found", "base"):
         if key in data and not (
             isinstance(data[key], list) and all(isinstance(n, str) for n in data[key])
         ):
-            raise bad(f"'{key}' must be a list of names")
+            raise bad(f"{shorten(key)} must be a list of names")
     if "velocity" in data:
         _vec(path, line, data["velocity"], "'velocity'")
-    for name, pos in (data.get("positions") or {}).items():
-        _vec(path, line, pos, f"position of {name!r}")
+    positions = data.get("positions", {})
+    if not isinstance(positions, dict):
+        raise bad("'positions' must map names to [x, y, z]")
+    for name, pos in positions.items():
+        _vec(path, line, pos, f"position of {shorten(name)}")
     objects = data.get("objects", {})
     if not isinstance(objects, dict):
         raise bad("'objects' must map names to {shape, size, position}")
     for name, obj in objects.items():
-        if not isinstance(obj, dict) or set(obj) != {"shape", "size", "position"}:
-            raise bad(f"object {name!r} needs exactly shape, size and position")
-        _vec(path, line, obj["size"], f"size of {name!r}")
-        _vec(path, line, obj["position"], f"position of {name!r}")
+        if not isinstance(obj, dict) or set(obj) != {"shape", "size", "position"} or \
+                not isinstance(obj["shape"], str):
+            raise bad(f"object {shorten(name)} needs exactly shape, size and position")
+        _vec(path, line, obj["size"], f"size of {shorten(name)}")
+        _vec(path, line, obj["position"], f"position of {shorten(name)}")
     return Record(line, float(t), event, None, data)
 
 
 def load_trace(path: str | Path, rules: RuleSet) -> Trace:
     """Read and check a trace file (docs/replay-trace.md)."""
     path = Path(path)
-    text = read_input(path, noun="trace file", expected="a trace file")
+    text = read_text(path, noun="trace file", expected="a trace file")
     records: list[Record] = []
     header = False
     last = 0.0
@@ -202,9 +208,10 @@ def load_trace(path: str | Path, rules: RuleSet) -> Trace:
         if not stripped or stripped.startswith("#"):
             continue
         try:
-            data = json.loads(stripped)
-        except json.JSONDecodeError as exc:
-            raise InputError(f"not a JSON object ({exc.msg})", file=path, line=number) from None
+            data = json_document(stripped)
+        except InputError as exc:
+            raise InputError(f"not a JSON object ({exc.message})", file=path,
+                             line=number) from None
         if not isinstance(data, dict):
             raise InputError("each line must be a JSON object", file=path, line=number)
         if not header:

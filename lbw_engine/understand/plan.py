@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import shorten
 from lbw_engine.rules import load_rules
 from lbw_engine.rules.analysis import AnalysisRules
 from lbw_engine.understand.actions import ActionSequence, Operation, load_actions
@@ -40,10 +41,14 @@ class Analysis:
 
 @without_gc
 def analyze_file(actions_path: str | Path, rules_dir: str | Path | None = None) -> Analysis:
-    """Load rules and an actions.json file and analyse it."""
-    rules = load_rules(rules_dir).analysis
-    table = RelationTable(rules.tolerance)
-    seq = load_actions(actions_path, table)
+    """Load rules and an actions.json file and analyse it.
+
+    The file must end with the hand empty, as the recognizer's rules define
+    holding (effects.yaml ``roles: hold``).
+    """
+    ruleset = load_rules(rules_dir)
+    rules = ruleset.analysis
+    seq = load_actions(actions_path, RelationTable(rules.tolerance), ruleset.hold_relation)
     return analyze(seq, rules)
 
 
@@ -118,7 +123,7 @@ def _name(ordered: list[Operator], created: list[Operator], seq: ActionSequence)
         counters[op.cls] = counters.get(op.cls, 0) + 1
         op.name = f"{op.cls.lower()}{counters[op.cls]:02d}"
         if op.name in leaves:
-            raise InputError(f"the operation name {op.name!r} is also the name of a plan "
+            raise InputError(f"the operation name {shorten(op.name)} is also the name of a plan "
                              "operator; rename the operation",
                              file=seq.file, where=f"operations[{leaves[op.name]}].name")
 

@@ -18,6 +18,7 @@ from lark import Transformer, v_args
 from lark.exceptions import UnexpectedInput, VisitError
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import shorten
 from lbw_engine.paths import default_rules_dir
 from lbw_engine.rules.analysis import PLAN_CLASSES
 from lbw_engine.rules.grammars import compile_plot
@@ -189,10 +190,11 @@ def read_plan_text(text: str, file: str = "<plan.txt>",
         ops = _ToPlan().transform(tree)
     except UnexpectedInput as exc:
         raise InputError(f"not in the plot notation at column {exc.column}: "
-                         f"{exc.get_context(text).splitlines()[0].strip()!r}",
+                         f"{shorten(exc.get_context(text).splitlines()[0].strip())}",
                          file=file, line=exc.line) from None
     except VisitError as exc:
-        raise InputError(f"cannot read the plot notation ({exc.orig_exc})", file=file) from None
+        raise InputError(f"cannot read the plot notation ({shorten(str(exc.orig_exc))})",
+                         file=file) from None
     if not ops:
         raise InputError("contains no operator", file=file)
     operators: dict[str, dict] = {}
@@ -220,3 +222,32 @@ def read_plan_text(text: str, file: str = "<plan.txt>",
             "next": entry.get("next", []),
         }
     return {"root": ops[0][0], "operators": operators}
+
+
+def check_grammar(grammar_file: Path, relation: str) -> None:
+    """``lbw check``: the plot grammar builds and reads back what ``write_plan_text``
+    writes (a two-level sample plan with every slot, :at coordinates and a
+    multiple-object relation of type ``relation``), unchanged."""
+    build, achieve = PLAN_CLASSES[0], PLAN_CLASSES[2]
+    at = {"at": [1.5, -2.0, 30.0], "wrt": "t1"}
+    top = {"class": build, "base": ["b1", "b2"], "target": ["t1"], "special": [],
+           "sc_plus": [[relation, "b1", ["b2", "t1"], at]], "sc_minus": [[relation, "b2", "t1"]],
+           "si": [], "sp": [], "next": [],
+           "plot": ["$sequence", ["$action", f"{achieve.lower()}01"],
+                    ["$parallel", ["$action", "x01"], ["$action", "x02"]]]}
+    leaf = {**top, "class": achieve, "base": ["b2"], "sc_plus": [], "sc_minus": [],
+            "plot": ["$action", "x03"]}
+    sample = {"root": f"{build.lower()}01",
+              "operators": {f"{build.lower()}01": top, f"{achieve.lower()}01": leaf}}
+    try:
+        back: Any = read_plan_text(write_plan_text(sample), "<sample plan.txt>", grammar_file)
+    except InputError as exc:
+        if exc.file == str(grammar_file):
+            raise
+        back = exc.message
+    except (TypeError, ValueError, KeyError, IndexError, AttributeError):
+        back = None  # the grammar's tree is not the plot notation's
+    if back != sample:
+        why = f" ({back})" if isinstance(back, str) else ""
+        raise InputError("does not read back the plot notation lbw writes to plan.txt "
+                         f"(Fig. 17, 22){why}", file=grammar_file)

@@ -14,6 +14,7 @@ from lark import Token, Tree
 from lark.exceptions import UnexpectedEOF, UnexpectedInput
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import shorten
 from lbw_engine.rules.analysis import AnalysisRules
 from lbw_engine.rules.grammars import Templates, UnknownWord
 from lbw_engine.understand.actions import ActionSequence, Operation
@@ -92,7 +93,7 @@ def build_step1(
         """One operator for a rule of the table; its plot is its members in order."""
         parts = members(node)
         if not parts:
-            raise InputError(f"template rule {node.data!r} matched no operation",
+            raise InputError(f"template rule {shorten(node.data)} matched no operation",
                              file=rules.grammar_file)
         plot = parts[0] if len(parts) == 1 else ("$sequence", *parts)
         return make_operator(rules.operators[node.data], plot, parts, rules.agents, rules.fixed)

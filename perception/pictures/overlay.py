@@ -6,15 +6,15 @@ hand-tracker's windows (green), and under them the attention stack (Sec. V-A,
 one line per level) and the operation being recognized. ``record_demonstration``
 draws it from ``watch_frames``'s per-frame hook, called after the recognizer has
 finished each frame (so the picture shows what the recognizer knew at that
-frame: online, no look-ahead), streams the monitor frames into an MP4 and keeps a few
-for report.html;
+frame: online, no look-ahead), streams the monitor frames into an H.264 MP4 and keeps
+a few for report.html;
 ``ExecutionRecorder`` is an ``on_step`` hook for ``execute_plan`` that renders
 the robot's work through the same cameras.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -23,6 +23,7 @@ import numpy as np
 
 from lbw_engine.rules import RuleSet
 from lbw_engine.see.recognizer import Recognizer
+from perception.pictures.video import VideoFile
 from perception.vision.camera import default_cameras
 from perception.vision.envnodes.hand import HandState
 from perception.vision.envnodes.registry import watch_frames
@@ -32,8 +33,15 @@ from perception.world.render import Renderer
 PANEL_H = 120  # px of text under the views
 HAND_COLOR, ATTN_COLOR, TEXT_COLOR = (60, 220, 60), (0, 215, 255), (235, 235, 235)
 FONT = cv2.FONT_HERSHEY_SIMPLEX
+PANEL_GRAY, HEAD_ORG, HEAD_SCALE, HEAD_COLOR = 25, (8, 20), 0.55, (120, 230, 255)  # panel line 1
 
 Window = tuple[str, tuple[int, int, int, int], str]  # (view, (x0, y0, x1, y1), kind)
+FrameHook = Callable[[Frame, Recognizer, HandState], None]
+
+
+def clock(t: float) -> str:
+    """The time as the panel's first line starts with it (report.html's strips read it)."""
+    return f"t = {t:6.2f} s"
 
 
 def draw_monitor(top: np.ndarray, side: np.ndarray, windows: Sequence[Window],
@@ -54,9 +62,9 @@ def draw_monitor(top: np.ndarray, side: np.ndarray, windows: Sequence[Window],
         cv2.putText(img, name, (6, 18), FONT, 0.5, TEXT_COLOR, 1, cv2.LINE_AA)
         tiles.append(img)
     views_img = np.hstack([tiles[0], np.full((tiles[0].shape[0], 4, 3), 90, np.uint8), tiles[1]])
-    panel = np.full((PANEL_H, views_img.shape[1], 3), 25, np.uint8)
-    head = f"t = {t:6.2f} s   " if t is not None else ""
-    cv2.putText(panel, f"{head}operation: {operation}", (8, 20), FONT, 0.55, (120, 230, 255),
+    panel = np.full((PANEL_H, views_img.shape[1], 3), PANEL_GRAY, np.uint8)
+    head = f"{clock(t)}   " if t is not None else ""
+    cv2.putText(panel, f"{head}operation: {operation}", HEAD_ORG, FONT, HEAD_SCALE, HEAD_COLOR,
                 1, cv2.LINE_AA)
     lines = list(stack_lines)[-5:] or ["(attention stack empty)"]
     for k, line in enumerate(lines):
@@ -89,80 +97,65 @@ def monitor_state(recognizer: Recognizer, hand: HandState
     return windows, lines, operation
 
 
-class VideoFile:
-    """An MP4 written frame by frame (OpenCV's mp4v codec); no-op without a path."""
-
-    def __init__(self, path: str | Path | None, fps: float) -> None:
-        """Open lazily: the size is known at the first frame."""
-        self.path, self.fps, self.writer, self.frames = path, fps, None, 0
-
-    def add(self, image: np.ndarray) -> None:
-        """Append one BGR frame."""
-        if self.path is None:
-            return
-        if self.writer is None:
-            h, w = image.shape[:2]
-            self.writer = cv2.VideoWriter(str(self.path), cv2.VideoWriter_fourcc(*"mp4v"),
-                                          self.fps, (w, h))
-            if not self.writer.isOpened():
-                raise OSError(f"cannot write video {self.path}")
-        self.writer.write(image)
-        self.frames += 1
-
-    def close(self) -> None:
-        """Finish the file."""
-        if self.writer is not None:
-            self.writer.release()
-            self.writer = None
-
-
 def record_demonstration(scenario: Any, rules: RuleSet, video: str | Path | None = None,
-                         keep_every: float = 2.0, fps: float = 30.0, scale: int = 2
+                         keep_every: float = 2.0, fps: float = 30.0, scale: int = 2,
+                         on_frame: FrameHook | None = None
                          ) -> tuple[Recognizer, HandState, list[tuple[float, np.ndarray]]]:
-    """Watch ``scenario`` on the monitor; MP4 to ``video``; keep one frame per ``keep_every`` s."""
+    """Watch ``scenario`` on the monitor; MP4 to ``video``; keep one frame per ``keep_every`` s.
+
+    ``on_frame`` is a further per-frame hook (e.g. ``motiontrace.MotionRecorder``), called
+    after the monitor is drawn, with the same arguments as ``watch_frames``'s.
+    """
     from perception.world.stream import demonstration_frames, teach_names
 
     cameras = default_cameras()
     out = VideoFile(video, fps)
     kept: list[tuple[float, np.ndarray]] = []
 
-    def on_frame(frame: Frame, rec: Recognizer, hand: HandState) -> None:
+    def monitor(frame: Frame, rec: Recognizer, hand: HandState) -> None:
         """Draw the monitor; stream it, keep a sample."""
         wins, lines, op = monitor_state(rec, hand)
         image = draw_monitor(frame.top, frame.side, wins, lines, op, frame.t, scale)
         out.add(image)
         if not kept or frame.t - kept[-1][0] >= keep_every - 1e-9:
             kept.append((frame.t, image))
+        if on_frame is not None:
+            on_frame(frame, rec, hand)
 
     try:
         rec, hand = watch_frames(demonstration_frames(scenario, cameras, fps=fps), cameras,
-                                 scenario.shapes, rules, teach_names(scenario), on_frame)
+                                 scenario.shapes, rules, teach_names(scenario), monitor)
     finally:
         out.close()
     return rec, hand, kept
 
 
 class ExecutionRecorder:
-    """``on_step`` hook for ``execute_plan``: renders the robot's world every ``every`` steps."""
+    """``on_step`` hook for ``execute_plan``: renders the robot's world ``fps`` times per
+    second of robot time, so the video plays in real time whatever the robot's step."""
 
-    def __init__(self, video: str | Path | None = None, every: int = 1, fps: float = 30.0,
+    def __init__(self, video: str | Path | None = None, fps: float = 30.0,
                  keep_every: float = 2.0, pixel_noise: float = 2.0, scale: int = 2) -> None:
         """Record to ``video`` (MP4) and keep a frame every ``keep_every`` s of robot time."""
         self.renderer = Renderer(default_cameras(), pixel_noise=pixel_noise, seed=0)
-        self.out = VideoFile(video, fps / every)
-        self.every, self.keep_every, self.scale = every, keep_every, scale
-        self.steps = 0
+        self.out = VideoFile(video, fps)
+        self.period, self.keep_every, self.scale = 1.0 / fps, keep_every, scale
+        self.steps = 0  # robot steps seen
+        self.rendered = 0  # frames drawn (one per period)
+        self.next_t: float | None = None
         self.kept: list[tuple[float, np.ndarray]] = []
 
     def __call__(self, world: Any) -> None:
-        """Render one robot step (the world is read only through its scene)."""
+        """Render the world when a period has passed (read only through its scene)."""
         self.steps += 1
-        if self.steps % self.every:
+        if self.next_t is not None and world.time < self.next_t - 1e-9:
             return
+        self.next_t = (world.time if self.next_t is None else self.next_t) + self.period
         views = self.renderer.render(world.scene())
         image = draw_monitor(views["top"], views["side"], [], ["robot executing the plan"],
                              "execution", world.time, self.scale)
         self.out.add(image)
+        self.rendered += 1
         if not self.kept or world.time - self.kept[-1][0] >= self.keep_every - 1e-9:
             self.kept.append((world.time, image))
 

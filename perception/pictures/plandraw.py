@@ -216,11 +216,12 @@ def plan_picture(plan: dict) -> Picture:
 
 # -- SVG ----------------------------------------------------------------------------------
 
-_STYLE = (".edge{stroke:#555;fill:none;stroke-width:1}"
-          ".sequence{stroke:#1f4fa0;fill:none;stroke-width:1.6}"
-          ".parallel{stroke:#b0401a;fill:none;stroke-width:2}"
-          "text{font-family:monospace;font-size:12px;fill:#111}"
-          ".leaf rect{stroke:#999} .operator rect{stroke:#333}")
+# Scoped to the picture: inline in report.html, an SVG <style> applies to the whole page.
+_STYLE = (".plan-tree .edge{stroke:#555;fill:none;stroke-width:1}"
+          ".plan-tree .sequence{stroke:#1f4fa0;fill:none;stroke-width:1.6}"
+          ".plan-tree .parallel{stroke:#b0401a;fill:none;stroke-width:2}"
+          ".plan-tree text{font-family:monospace;font-size:12px;fill:#111}"
+          ".plan-tree .leaf rect{stroke:#999} .plan-tree .operator rect{stroke:#333}")
 
 
 def to_svg(pic: Picture) -> str:

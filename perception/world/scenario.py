@@ -16,12 +16,19 @@ from pathlib import Path
 from typing import Any
 
 from lbw_engine.errors import InputError
+from lbw_engine.guard import Place, number, shorten
 from lbw_engine.yamlio import line_of, load_file, loads
 from perception.world.layout import Layout, replay
 
 NAME_RE = re.compile(r"[a-z][a-z0-9_-]*\Z")
 RESERVED = frozenset({"table", "hand"})
 SIZE_RANGE = (10.0, 200.0)  # mm per axis (design.md)
+# Noise ranges (docs/world.md "Input limits"): beyond them the images or the
+# demonstration's duration stop making sense (a speed factor near 0 never ends).
+PIXEL_RANGE = (0.0, 64.0)  # gray levels, std-dev
+TREMOR_RANGE = (0.0, 20.0)  # mm, std-dev
+SPEED_RANGE = (0.25, 4.0)  # demonstrator speed factor
+SEED_MAX = 2**63 - 1
 FACES = ("north", "south", "east", "west")  # +y, -y, +x, -x faces of a box
 STEP_KINDS = ("pick", "place", "touch")
 
@@ -111,6 +118,10 @@ class _Ctx:
         """An InputError at ``container[key]`` (line from the YAML loader)."""
         return InputError(message, file=self.file, line=line_of(container, key), where=where)
 
+    def place(self, container: Any, key: Any, where: str) -> Place:
+        """The place of ``container[key]`` for ``guard.number``."""
+        return Place(self.file, line_of(container, key), where)
+
 
 def load(path: str | Path) -> Scenario:
     """Load and validate a scenario file."""
@@ -135,8 +146,9 @@ def parse(doc: Any, file: str) -> Scenario:
     if not isinstance(name, str) or not name.strip():
         raise cx.fail("must be a non-empty string", doc, "name", "name")
     seed = doc.get("seed", 0)
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise cx.fail("must be a non-negative integer", doc, "seed", "seed")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= SEED_MAX:
+        raise cx.fail(f"must be a non-negative integer below 2**63, got {shorten(seed)}", doc,
+                      "seed", "seed")
     shapes = _shapes(cx, doc["shapes"], doc)
     noise = _noise(cx, doc.get("noise"), doc)
     teach = doc["teach"]
@@ -149,6 +161,7 @@ def parse(doc: Any, file: str) -> Scenario:
     teach_ws = _workspace(cx, teach["objects"], teach, "teach.objects", shapes)
     steps_raw = _steps(cx, teach["demonstration"], teach, teach_ws)
     steps, states = _replay(cx, teach_ws, steps_raw, teach["demonstration"])
+    _ends_empty(cx, steps, states, teach["demonstration"])
     execute = None
     if "execute" in doc:
         ex = doc["execute"]
@@ -170,24 +183,26 @@ def _no_unknown(cx: _Ctx, mapping: dict, allowed: set[str], where: str) -> None:
             raise cx.fail(f"unknown key '{key}' (expected one of: {known})", mapping, key, path)
 
 
-def _number(cx: _Ctx, value: Any, parent: Any, key: Any, where: str) -> float:
-    """A real number (not a boolean)."""
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise cx.fail(f"expected a number, got {value!r}", parent, key, where)
-    return float(value)
+def _number(cx: _Ctx, value: Any, parent: Any, key: Any, where: str,
+            bounds: tuple[float, float] | None = None, unit: str = "") -> float:
+    """A finite real number (not a boolean), within ``bounds`` when given."""
+    low, high = bounds if bounds else (None, None)
+    return number(value, cx.place(parent, key, where), low, high, unit=unit)
 
 
 def _vector(cx: _Ctx, value: Any, n: int, parent: Any, key: Any, where: str) -> tuple:
     """A list of exactly ``n`` numbers."""
     if not isinstance(value, list) or len(value) != n:
-        raise cx.fail(f"expected a list of {n} numbers, got {value!r}", parent, key, where)
+        raise cx.fail(f"expected a list of {n} numbers, got {shorten(value)}", parent, key,
+                      where)
     return tuple(_number(cx, v, value, i, f"{where}[{i}]") for i, v in enumerate(value))
 
 
 def _name(cx: _Ctx, value: Any, parent: Any, key: Any, where: str) -> str:
     """An object or shape name: [a-z][a-z0-9_-]*, not reserved."""
     if not isinstance(value, str) or not NAME_RE.match(value):
-        raise cx.fail(f"bad name {value!r}: names match [a-z][a-z0-9_-]*", parent, key, where)
+        raise cx.fail(f"bad name {shorten(value)}: names match [a-z][a-z0-9_-]*", parent, key,
+                      where)
     if value in RESERVED:
         raise cx.fail(f"'{value}' is a reserved name", parent, key, where)
     return value
@@ -220,17 +235,25 @@ def _noise(cx: _Ctx, raw: Any, doc: Any) -> Noise:
     _no_unknown(cx, raw, _NOISE_KEYS, "noise")
     base = Noise()
     vals = {}
-    for key in ("pixel", "tremor"):
+    for key, bounds, unit in (("pixel", PIXEL_RANGE, "gray levels"),
+                              ("tremor", TREMOR_RANGE, "mm")):
         if key in raw:
-            vals[key] = _number(cx, raw[key], raw, key, f"noise.{key}")
-            if vals[key] < 0:
+            if _is_number(raw[key]) and raw[key] < 0:
                 raise cx.fail("must not be negative", raw, key, f"noise.{key}")
+            vals[key] = _number(cx, raw[key], raw, key, f"noise.{key}", bounds, unit)
     speed = base.speed
     if "speed" in raw:
         speed = _vector(cx, raw["speed"], 2, raw, "speed", "noise.speed")
         if not 0 < speed[0] <= speed[1]:
             raise cx.fail("must be [low, high] with 0 < low <= high", raw, "speed", "noise.speed")
+        for i, factor in enumerate(speed):
+            _number(cx, factor, raw["speed"], i, f"noise.speed[{i}]", SPEED_RANGE)
     return Noise(vals.get("pixel", base.pixel), vals.get("tremor", base.tremor), speed)
+
+
+def _is_number(value: Any) -> bool:
+    """A real number (not a boolean)."""
+    return isinstance(value, int | float) and not isinstance(value, bool)
 
 
 def _on(cx: _Ctx, value: Any, parent: Any, where: str) -> tuple[str, ...]:
@@ -262,9 +285,9 @@ def _workspace(cx: _Ctx, raw: Any, parent: Any, where: str, shapes: dict) -> Wor
         if "shape" not in value:
             raise cx.fail("missing required key 'shape'", value, None, f"{w}.shape")
         shape = value["shape"]
-        if shape not in shapes:
+        if not isinstance(shape, str) or shape not in shapes:
             known = ", ".join(sorted(shapes))
-            raise cx.fail(f"unknown shape {shape!r} (shapes: {known})", value, "shape",
+            raise cx.fail(f"unknown shape {shorten(shape)} (shapes: {known})", value, "shape",
                           f"{w}.shape")
         on = _on(cx, value["on"], value, f"{w}.on") if "on" in value else ("table",)
         at = _vector(cx, value["at"], 2, value, "at", f"{w}.at") if "at" in value else None
@@ -343,10 +366,21 @@ def _align(cx: _Ctx, raw: Any, item: Any, where: str, ws: Workspace, obj: str) -
     other = _name(cx, raw["with"], raw, "with", f"{where}.with")
     if other not in ws.objects or other == obj:
         raise cx.fail(f"cannot align with '{other}'", raw, "with", f"{where}.with")
-    if raw["face"] not in FACES:
-        raise cx.fail(f"unknown face {raw['face']!r} (faces: {', '.join(FACES)})", raw, "face",
-                      f"{where}.face")
+    if not isinstance(raw["face"], str) or raw["face"] not in FACES:
+        raise cx.fail(f"unknown face {shorten(raw['face'])} (faces: {', '.join(FACES)})", raw,
+                      "face", f"{where}.face")
     return Align(other, raw["face"])
+
+
+def _ends_empty(cx: _Ctx, steps: tuple[Step, ...], states: tuple[Layout, ...], raw: Any) -> None:
+    """A demonstration ends with the hand empty: plan analysis (Fig. 15) has no
+    template for a task that ends holding an object, so the watch would be wasted."""
+    held = states[-1].held if states else None
+    if held is not None:
+        last = len(steps) - 1
+        raise cx.fail(f"the demonstration ends with '{held}' in the hand; expected it to end "
+                      f"with the hand empty (add a place of '{held}')", raw, last,
+                      steps[last].where)
 
 
 def _replay(cx: _Ctx, ws: Workspace, steps: list[tuple[Step, Any]], raw: Any):

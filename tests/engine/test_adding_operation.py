@@ -1,7 +1,10 @@
-"""docs/adding-an-operation.md, executed: a rule edit adds PICK-FROM-BLOCK.
+"""docs/adding-an-operation.md, executed: rule edits add PICK-FROM-BLOCK end to end.
 
 The edits below must appear verbatim in the tutorial, so the document and
-this test cannot drift apart."""
+this test cannot drift apart: Table V (operations.yaml), its effect
+(effects.yaml), the plan templates (templates.lark) and the command expansion
+(commands.yaml). Then ``lbw run`` on the bundled disassembly demonstration
+must pass with PICK-FROM-BLOCK recognized, planned, expanded and verified."""
 
 import json
 import shutil
@@ -33,6 +36,10 @@ EFFECT = """  PICK-FROM-BLOCK:
     move: {follow: $hand, object: $object}
 """
 PICK_ROW = "    - {when: {sil-diff: decreased}, operation: PICK}\n"
+FETCH = 'fetch: "REACH" "PICK" _withdraw*'
+TEMPLATE = 'fetch: "REACH" ("PICK" | "PICK-FROM-BLOCK") _withdraw*'
+PICK_COMMAND = "  PICK:           {goal: [object], steps: [[PICK, goal]], check-jaws: true}\n"
+COMMAND = "  PICK-FROM-BLOCK: {goal: [object], steps: [[PICK, goal]], check-jaws: true}\n"
 
 
 def edited_copy(tmp_path: Path, row_first: bool = True) -> Path:
@@ -44,10 +51,17 @@ def edited_copy(tmp_path: Path, row_first: bool = True) -> Path:
     (copy / "operations.yaml").write_text(ops)
     effects = (copy / "effects.yaml").read_text()
     (copy / "effects.yaml").write_text(effects.replace("operations:\n", "operations:\n" + EFFECT))
+    templates = (copy / "templates.lark").read_text()
+    assert FETCH in templates
+    (copy / "templates.lark").write_text(templates.replace(FETCH, TEMPLATE))
+    commands = (copy / "commands.yaml").read_text()
+    assert PICK_COMMAND in commands
+    (copy / "commands.yaml").write_text(commands.replace(PICK_COMMAND, PICK_COMMAND + COMMAND))
     return copy
 
 
-@pytest.mark.parametrize("snippet", [FEATURE, ROW, EFFECT], ids=["feature", "row", "effect"])
+@pytest.mark.parametrize("snippet", [FEATURE, ROW, EFFECT, TEMPLATE, COMMAND],
+                         ids=["feature", "row", "effect", "template", "command"])
 def test_tutorial_shows_the_edit(snippet):
     assert snippet in TUTORIAL
 
@@ -88,3 +102,16 @@ def test_row_after_pick_is_refused(tmp_path, capsys):
     copy = edited_copy(tmp_path, row_first=False)
     assert main(["check", str(copy)]) == 2
     assert "can never fire" in capsys.readouterr().err
+
+
+def test_the_tutorial_runs_end_to_end_on_a_disassembly(tmp_path):
+    """lbw run on scenarios/unstack.yaml (a brick taken off a cube and put elsewhere)."""
+    copy = edited_copy(tmp_path)
+    out = tmp_path / "unstack"
+    assert main(["run", str(ROOT / "scenarios" / "unstack.yaml"), "--out", str(out),
+                 "--rules", str(copy)]) == 0
+    ops = [op["operation"] for op in json.loads((out / "actions.json").read_text())["operations"]]
+    assert "PICK-FROM-BLOCK" in ops and "PICK" not in ops
+    assert "<pick-from-block>" in (out / "commands.txt").read_text()
+    verdict = json.loads((out / "execution.json").read_text())
+    assert verdict["success"] is True and verdict["failure"] is None

@@ -168,7 +168,7 @@ BROKEN = [
         "search-cycle-limit: 4",
         "search-cycle-limit: -4",
         "search-cycle-limit",
-        "must be within 1..20",
+        "expected a number in [1, 20]",
     ),
 ]
 

@@ -10,10 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from lbw_engine.cli.execute import execute_plan
 from lbw_engine.do import plan as planmod
 from lbw_engine.do.balance import unbalanced
 from lbw_engine.model.env import Body, EnvModel
+from lbw_engine.pipeline.execute import execute_plan
 from lbw_engine.rules import load_rules
 from perception.world.scenario import load
 

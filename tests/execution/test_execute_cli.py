@@ -14,7 +14,9 @@ DATA = Path(__file__).resolve().parent.parent / "data"
 def run(tmp_path, plan, scenario, capsys):
     out = tmp_path / "out"
     code = main(["execute", str(DATA / plan), str(scenario), "--out", str(out)])
-    return code, out, capsys.readouterr().err
+    printed = capsys.readouterr()
+    run.stdout = printed.out  # the summary line of a success (tests that want it read it)
+    return code, out, printed.err
 
 
 @pytest.mark.parametrize("name,count", [("build-table", 45), ("inverted-arch", 36)],
@@ -25,6 +27,9 @@ def test_plan_executes_and_verifies(tmp_path, capsys, name, count):
     assert code == 0, err + json.dumps(report.get("mismatches"))
     assert report["success"] is True and report["mismatches"] == []
     assert report["commands"] == count
+    root = json.loads((DATA / f"{name}.plan.json").read_text())["root"]
+    assert run.stdout == (f"lbw execute: plan {root} in {name}: {count} commands; verified "
+                          f"(the executed structure matches the plan); outputs in {out}\n")
     text = (out / "commands.txt").read_text()
     assert f"{count} manipulator commands" in text and "<<Fetch>>" in text
     assert None not in report["robot"]["grasps"]  # every close-hand held a block
@@ -70,6 +75,8 @@ def test_impossible_workspace_fails_clearly(tmp_path, capsys, execute_yaml, shap
     assert "Traceback" not in err
     for needle in needles:
         assert needle in err
+    assert err.startswith("lbw execute: plan ") and "failed: instantiation: " in err
+    assert err.rstrip().endswith(f"outputs in {out}") and err.count("\n") == 1
     report = json.loads((out / "execution.json").read_text())  # published before exit 1
     assert report["success"] is False and any(n in report["failure"] for n in needles)
 

@@ -4,9 +4,9 @@ import json
 from pathlib import Path
 
 from lbw_engine.cli import main
-from lbw_engine.cli.execute import execute_plan
 from lbw_engine.do import plan as planmod
 from lbw_engine.paths import bundled_scenario
+from lbw_engine.pipeline.execute import execute_plan
 from lbw_engine.rules import load_rules
 from perception.world.scenario import load
 

@@ -14,9 +14,9 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from bench.bench_layouts import random_layout, with_layout  # noqa: E402
-from lbw_engine.cli.execute import execute_plan  # noqa: E402
 from lbw_engine.do import plan as planmod  # noqa: E402
 from lbw_engine.paths import bundled_scenario  # noqa: E402
+from lbw_engine.pipeline.execute import execute_plan  # noqa: E402
 from lbw_engine.rules import load_rules  # noqa: E402
 from perception.world.scenario import load  # noqa: E402
 

@@ -21,10 +21,10 @@ from unified_planning.io import PDDLReader
 
 from lbw_engine import export
 from lbw_engine.cli import main
-from lbw_engine.cli.execute import execute_plan
 from lbw_engine.do import plan as planmod
 from lbw_engine.export.leaves import bind_leaves
 from lbw_engine.paths import default_rules_dir
+from lbw_engine.pipeline.execute import execute_plan
 from lbw_engine.rules import load_rules
 from lbw_engine.understand.domain import run
 from perception.world import scenario as scenario_mod

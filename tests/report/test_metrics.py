@@ -10,9 +10,11 @@ from lbw_engine.report.metrics import (
     collapse_tail,
     compare_sequence,
     first_difference,
+    format_table,
     percentile,
     plan_final_relations,
     summarize,
+    wilson,
 )
 
 
@@ -69,6 +71,21 @@ def test_percentile():
     assert percentile(list(range(101)), 95) == pytest.approx(95)
 
 
+# Newcombe (1998), Table I, method 3 (Wilson score interval without continuity
+# correction), to four places; and the edges where the bench lives (all or none).
+@pytest.mark.parametrize("k,n,low,high", [
+    (81, 263, 0.2553, 0.3662), (15, 148, 0.0624, 0.1605), (0, 20, 0.0, 0.1611),
+    (1, 29, 0.0061, 0.1718), (29, 29, 0.8830, 1.0), (0, 10, 0.0, 0.2775),
+], ids=["81/263", "15/148", "0/20", "1/29", "29/29", "0/10"])
+def test_wilson_interval(k, n, low, high):
+    lo, hi = wilson(k, n)
+    assert (round(lo, 4), round(hi, 4)) == (low, high)
+
+
+def test_wilson_interval_without_trials_is_everything():
+    assert wilson(0, 0) == (0.0, 1.0)
+
+
 def test_summarize_counts_crashes_as_failures():
     good = {"level": "a", "exact": True, "accuracy": 1.0, "timing_errors": [0.1, 0.3],
             "plan_correct": True, "execution_success": False, "demo_seconds": 100.0,
@@ -79,6 +96,21 @@ def test_summarize_counts_crashes_as_failures():
     assert s["a"]["execution_success_rate"] == 0.0
     assert s["a"]["realtime_factor_watch"] == 25.0
     assert s["a"]["timing_error_median_s"] == pytest.approx(0.2)
+    assert s["a"]["exact_sequence_ci95"] == pytest.approx(list(wilson(1, 2)))
+    assert s["a"]["execution_success_ci95"] == pytest.approx(list(wilson(0, 2)))
+
+
+def test_exactness_after_repair_is_its_own_column():
+    rec = {"level": "a", "exact": False, "exact_repaired": True, "repairs": 2, "accuracy": 0.9,
+           "timing_errors": [], "plan_correct": True, "execution_success": True,
+           "demo_seconds": 1.0, "watch_seconds": 1.0, "total_seconds": 1.0,
+           "pixels_per_frame": 1.0}
+    s = summarize([rec, dict(rec, exact_repaired=False, repairs=0)], ["a"])["a"]
+    assert (s["exact_sequence_rate"], s["exact_repaired_rate"], s["repairs"]) == (0.0, 0.5, 2)
+    assert s["exact_repaired_ci95"] == pytest.approx(list(wilson(1, 2)))
+    header, row = format_table({"a": s}).splitlines()
+    assert header.split()[2:5] == ["exact", "exact", "rep"]
+    assert row.split()[2:4] == ["0%", "(0-66)"] and row.split()[4:6] == ["50%", "(9-91)"]
 
 
 def test_lbw_bench_command(tmp_path, capsys):
@@ -87,14 +119,33 @@ def test_lbw_bench_command(tmp_path, capsys):
                  "--scenarios", str(tmp_path / "sc")]) == 0
     assert (tmp_path / "sc" / "gen-0-nominal.yaml").read_text().startswith("# Generated")
     doc = json.loads(out.read_text())
-    assert doc["count"] == 1 and len(doc["scenarios"]) == 1
-    rec = doc["scenarios"][0]
+    assert doc["count"] == 1 and doc["records"] == str(tmp_path / "bench.jsonl")
+    assert doc["command"] == "lbw bench --count 1 --seed 0 --jobs 1"
+    lines = (tmp_path / "bench.jsonl").read_text().splitlines()
+    assert not (tmp_path / "bench.jsonl.partial").exists()  # only while running
+    assert len(lines) == 1
+    rec = json.loads(lines[0])
     assert rec["seed"] == 0 and rec["level"] == "nominal" and "exact" in rec
     assert set(doc["summary"]) == {"nominal"}
     printed = capsys.readouterr().out
     assert "exact" in printed and "nominal" in printed
+    rate = "100%" if rec["exact"] else "0%"
+    assert f"{rate} ({'21-100' if rec['exact'] else '0-79'})" in printed  # Wilson, n = 1
     assert len(doc["failures"]) == (0 if rec["exact"] and rec["plan_correct"] and
                                     rec["execution_success"] else 1)
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["--out", "{tmp}"], "{tmp}: --out: is a folder; give a file name"),
+    (["--out", "{tmp}/b.json", "--records", "{tmp}"], "{tmp}: --records: is a folder"),
+    (["--out", "{tmp}/b.json", "--records", "{tmp}/b.json"],
+     "--records: the records file must differ from the summary file"),
+], ids=["out-folder", "records-folder", "same-file"])
+def test_lbw_bench_rejects_bad_files_before_running(tmp_path, capsys, argv, message):
+    argv = [a.format(tmp=tmp_path) for a in argv]
+    assert main(["bench", "--count", "1", "--jobs", "1", *argv]) == 2
+    assert message.format(tmp=tmp_path) in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_lbw_bench_rejects_bad_counts(capsys):

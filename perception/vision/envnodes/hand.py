@@ -18,6 +18,7 @@ resting place before it was held.
 
 from __future__ import annotations
 
+import bisect
 from collections import deque
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -49,14 +50,12 @@ SETTLE_FRAMES = 5  # tracked frames after a (re)placement before the velocity is
 
 @dataclass(frozen=True)
 class Sample:
-    """The hand on one frame: time, tracked point, palm-checked point ("spot"), speed, and
-    whether the tracker had followed the hand long enough for that speed to be trusted."""
+    """The hand on one frame: time, tracked point, palm-checked point ("spot"), speed."""
 
     t: float
     hand: np.ndarray
     spot: np.ndarray
     speed: float
-    steady: bool = True
 
 
 class Sight:
@@ -125,9 +124,12 @@ class HandState:
         self.hand: np.ndarray | None = None  # tracked 3-D hand position this frame
         self.spot: np.ndarray | None = None  # the same, x from the palm where they disagree
         self.velocity = np.zeros(3)
-        self.history: deque[Sample] = deque()
+        self.history: list[Sample] = []  # the path, oldest first (HISTORY_S of it)
+        self._times: list[float] = []  # the samples' times, for bisection
+        self._lowest: dict[float, tuple[int, Sample]] = {}  # since -> (samples seen, lowest)
         self._rest: dict[str, np.ndarray] = {}  # object -> its last position while not held
         self._grip: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # held -> (hand, spot) grip
+        self._observed: tuple | None = None  # what observe() last saw (frame, relations)
 
     # -- per frame (always on, Sec. V-A) ----------------------------------------------
     def update(self, t: float, frame: Frame) -> None:
@@ -189,9 +191,12 @@ class HandState:
         self.spot = median3(self.checked)
         self.path.add(t, self.hand)
         self.velocity = self.path.velocity
-        self.history.append(Sample(t, self.hand, self.spot, self.speed(), self.steady))
-        while t - self.history[0].t > HISTORY_S:
-            self.history.popleft()
+        self.history.append(Sample(t, self.hand, self.spot, self.speed()))
+        self._times.append(t)
+        if t - self._times[0] > 2 * HISTORY_S:  # trim in chunks: O(1) per frame on average
+            cut = bisect.bisect_left(self._times, t - HISTORY_S)
+            del self.history[:cut], self._times[:cut]
+            self._lowest.clear()
 
     # -- the hand now ------------------------------------------------------------------
     @property
@@ -215,19 +220,26 @@ class HandState:
 
     # -- the hand's path since a time ----------------------------------------------------
     def since(self, t: float) -> list[Sample]:
-        """The path from time ``t`` on (the last sample before it when none is after)."""
-        out: list[Sample] = []
-        for s in reversed(self.history):
-            out.append(s)
-            if s.t <= t:
-                break
-        out.reverse()
-        return out
+        """The path from time ``t`` on (with the last sample before it, if any)."""
+        return self.history[max(0, bisect.bisect_right(self._times, t) - 1):]
 
     def lowest(self, t: float) -> Sample | None:
-        """The lowest point of the path since ``t``."""
-        path = self.since(t)
-        return min(path, key=lambda s: float(s.hand[2])) if path else None
+        """The lowest point of the path since ``t`` (kept up to date per ``t`` asked)."""
+        start = max(0, bisect.bisect_right(self._times, t) - 1)
+        seen, low = self._lowest.get(t, (start, None))
+        for s in self.history[seen:]:
+            if low is None or s.hand[2] < low.hand[2]:
+                low = s
+        self._lowest[t] = (len(self.history), low)
+        if len(self._lowest) > 64:  # old questions are not asked again
+            self._lowest.pop(next(iter(self._lowest)))
+        return low
+
+    def at(self, t: float) -> Sample | None:
+        """The sample at time ``t`` (the last one before it; the first after it if none)."""
+        if not self.history:
+            return None
+        return self.history[max(0, bisect.bisect_right(self._times, t) - 1)]
 
     def let_go(self, t: float) -> Sample | None:
         """Where the hand let go since ``t``: its last point near the lowest one.
@@ -235,15 +247,22 @@ class HandState:
         Fingers open at the bottom of a place, so the release is the last moment the
         hand was still within LET_GO_MM of its lowest point; after it the hand rises.
         """
-        path = self.since(t)
-        if not path:
+        low = self.lowest(t)
+        if low is None:
             return None
-        low = min(float(s.hand[2]) for s in path)
-        return next(s for s in reversed(path) if float(s.hand[2]) <= low + LET_GO_MM)
+        near = float(low.hand[2]) + LET_GO_MM
+        for s in reversed(self.history):
+            if s.hand[2] <= near or s is low:
+                return s
+        return low
 
     # -- what the hand holds (the HandLoc subnode, Fig. 8) --------------------------------
     def observe(self, env: EnvModel) -> None:
         """Note where each object rests and measure the grip of a newly held one."""
+        key = (len(env.relations), env.relations[-1] if env.relations else None)
+        if key == self._observed:
+            return  # nothing moved since the last look: objects move only by effects
+        self._observed = key
         held = set(env.held())
         for name in [n for n in self._grip if n not in held]:
             del self._grip[name]

@@ -63,6 +63,11 @@ class HandTrackerNode(EnvNodeBase):
     name = "hand-tracker"
     calls = {"lost": "lost", "motion-feature": "motion_feature", "away": "away"}
 
+    def __init__(self, *args: Any) -> None:
+        """No footprint measured yet."""
+        super().__init__(*args)
+        self._footprint: tuple[Any, WorkRegion | None] = (None, None)
+
     def lost(self, query: Query, env: EnvModel) -> Detection | None:
         """The tracker lost the hand at the workspace's edge: it went outside (dated then)."""
         return Detection(t=self.hand.t_seen) if self.hand.status == "gone" else None
@@ -101,7 +106,7 @@ class HandTrackerNode(EnvNodeBase):
             return (work is not None and work.distance(s.hand) > margin) or z - floor > reach \
                 or (peak - floor > FAR_RISE_MM and peak - z > FAR_DROP_MM)
 
-        last = list(hand.history)[-FAR_FRAMES:]
+        last = hand.history[-FAR_FRAMES:]
         if len(last) == FAR_FRAMES and all(outside(s) for s in last):
             return hand.detection(t=hand.path.onset(hand.sight.t))
         return None
@@ -111,10 +116,17 @@ class HandTrackerNode(EnvNodeBase):
         it was let go (a place), else the target blocks (a pick, a touch), else the spot
         under the hand where the motion began."""
         hand = self.hand
-        start = hand.since(query.since)[0]
-        if hand.held_box(env) is not None:
-            boxes = [hand.held_box(env, at=start)[1], hand.held_box(env, at=hand.let_go(
-                query.since))[1]]
+        start = hand.at(query.since)
+        held = env.held()
+        if held:
+            let_go = hand.let_go(query.since)
+            key = (query.since, held, id(start), id(let_go))
+            if self._footprint[0] != key:  # the same question as on the last frame
+                boxes = [hand.held_box(env, at=start), hand.held_box(env, at=let_go)]
+                self._footprint = (key, footprint([b[1] for b in boxes if b is not None]))
+            if self._footprint[1] is not None:
+                return self._footprint[1]
+            boxes = []
         else:
             boxes = [box(n) for n in query.target if n.kind == "Loc" and n.size is not None
                      and n.position is not None]
@@ -132,12 +144,12 @@ class ContactNode(EnvNodeBase):
     def contact(self, query: Query, env: EnvModel) -> Detection | None:
         """The hand staying at its lowest point, come down onto the target (:Join)."""
         hand = self.hand
-        path = hand.since(query.since)
-        if hand.hand is None or not path:
+        start = hand.at(query.since)
+        if hand.hand is None or start is None:
             return None
         z = float(hand.hand[2])
-        low = min(float(s.hand[2]) for s in path)
-        descent = float(path[0].hand[2]) - low
+        low = float(hand.lowest(query.since).hand[2])
+        descent = float(start.hand[2]) - low
         if (hand.speed() < hand.v_slow and z - low < JOIN_MM and descent > DESCENT_MM
                 and self._reached(query.target, env)):
             return hand.detection()
@@ -159,10 +171,10 @@ class ContactNode(EnvNodeBase):
     def separation(self, query: Query, env: EnvModel) -> Detection | None:
         """The hand risen from where the contact began (:Split)."""
         hand = self.hand
-        path = hand.since(query.since)
-        if hand.hand is None or not path:
+        start = hand.at(query.since)
+        if hand.hand is None or start is None:
             return None
-        if float(hand.hand[2]) - float(path[0].hand[2]) > SPLIT_MM:
+        if float(hand.hand[2]) - float(start.hand[2]) > SPLIT_MM:
             return hand.detection()
         return None
 

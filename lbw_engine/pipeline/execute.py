@@ -1,0 +1,212 @@
+"""Doing (Sec. VII): instantiate a plan in the execution workspace, run it, verify.
+
+The wiring between the pure execution logic (``lbw_engine.do``) and the
+simulated workspace (``perception``): build the scenario's execution
+workspace, measure its initial state through the cameras, match it to the
+plan's objects, trace the plan into Table IX commands, run them with the robot,
+let the world settle for 2 s and verify the final structure. ``lbw execute``
+and ``lbw run`` use ``execute_plan``; a result that did not succeed names the
+phase: instantiation, execution or verification.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from lbw_engine.do.matching import Measured, match_initial_state, plan_objects, taught_shapes
+from lbw_engine.do.plan import Plan
+from lbw_engine.do.tracing import Trace, format_commands, trace
+from lbw_engine.do.verification import ObjectState, verify
+from lbw_engine.errors import InputError, TaskFailed
+from lbw_engine.model.env import Body, EnvModel
+from lbw_engine.outputs import OutputDir
+from lbw_engine.rules import RuleSet
+
+SETTLE_S = 2.0  # seconds the world runs after the last command before measuring
+VIA = ("trace", "bt")  # how the robot is driven: the traced command list, or a behaviour tree
+
+
+@dataclass
+class ExecutionResult:
+    """What an execution produced: the two output files' contents and the verdict."""
+
+    success: bool
+    message: str
+    commands_text: str
+    report: dict[str, Any]
+    trace: Trace | None = None
+    views: dict[str, Any] = field(default_factory=dict)  # name -> {"top": img, "side": img}
+    phase: str | None = None  # the phase that failed: instantiation, execution, verification
+
+
+def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
+                 on_step: Callable[[Any], None] | None = None,
+                 via: str = VIA[0]) -> ExecutionResult:
+    """Instantiate ``plan`` in ``sc.execute``, run it with the robot and verify it.
+
+    ``sc`` is a loaded ``perception.world.scenario.Scenario``; ``on_step(world)`` is
+    called after every world step of the robot (e.g. to render frames); ``via="bt"``
+    ticks the plan's behaviour tree instead of running the traced commands. Raises
+    InputError when the plan and the scenario do not fit together; a task that
+    cannot be done or does not verify gives ``success=False`` with a message.
+    """
+    from perception.vision.camera import default_cameras
+    from perception.world.physics import World
+    from perception.world.render import Renderer
+    from perception.world.robot import FINGERTIP, Robot
+
+    rules = ruleset.commands
+    if rules.tip != FINGERTIP:
+        raise InputError(f"gripper.tip must be the simulated gripper's {FINGERTIP:g} mm",
+                         file=rules.file, where="gripper.tip")
+    if sc.execute is None:
+        raise InputError("the scenario has no 'execute' workspace", file=sc.file, where="execute")
+    taught = _taught(plan, sc)
+    world = World(sc.execute.objects.values())
+    world.settle(0.5)
+    renderer = Renderer(default_cameras(), pixel_noise=sc.noise.pixel, seed=sc.seed)
+    views = {"execution-initial": renderer.render(world.scene())}
+    measured, source = measure_initial_state(world, sc, views["execution-initial"])
+    start = world.positions()  # to name world bodies by plan object at the end
+    errors = [min(math.dist(m.position, p) for p in start.values()) for m in measured]
+    report: dict[str, Any] = {
+        "success": False,
+        "initial_state": {"source": source, "objects_in_world": len(start),
+                          "max_error_mm": round(max(errors, default=0.0), 1),
+                          "measured": [{"shape": m.shape, "position": _r(m.position),
+                                        "size": list(m.size)} for m in measured]},
+    }
+    try:
+        matching = match_initial_state(taught, plan_objects(plan), measured)
+        report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
+        model = _model(taught, sc.shapes, matching, measured, ruleset)
+        fresh = copy.deepcopy(model) if via == "bt" else None
+        tr = trace(plan, rules, model)
+    except TaskFailed as exc:
+        report.update(stage="instantiation", failure=f"instantiation: {exc}", mismatches=[])
+        return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report, None, views,
+                               "instantiation")
+    robot = Robot(world, rules.arm_frame, rules.home, on_step=on_step, finger=rules.finger)
+    report["via"] = via
+    if fresh is None:
+        log = robot.execute(tr.commands)
+    else:
+        from lbw_engine.do.behaviour import run_tree
+        try:
+            tr, report["ticks"] = run_tree(plan, rules, fresh, robot.execute)
+        except TaskFailed as exc:
+            report.update(stage="execution", failure=f"execution: {exc}", mismatches=[])
+            return ExecutionResult(False, str(exc), f";;; stopped: {exc}\n", report, None, views,
+                                   "execution")
+        log, model = robot.log, tr.model
+    names = list(matching.assigned)
+    expected = model.settled(names)
+    expected_sup = model.final_supports(names)
+    robot.settle(SETTLE_S)
+    views["execution-final"] = renderer.render(world.scene())
+    verdict = verify(expected, expected_sup, _final_state(world, start, measured, matching),
+                     rules.support_relations)
+    report.update(verdict.to_json())
+    report.update(
+        stage="verification",
+        commands=len(tr.commands),
+        expected={"relations": [[t, n, list(o) if len(o) > 1 else o[0]]
+                                for n, (t, o) in sorted(expected_sup.items())],
+                  "positions": {n: _r(p) for n, p in sorted(expected.items())}},
+        final_state_source="ground-truth",
+        robot={"grasps": log.grasps, "sim_time": round(log.time, 2)},
+    )
+    msg = "the executed structure matches the plan" if verdict.success else \
+        "the executed structure does not match the plan: " + \
+        "; ".join(m["message"] for m in verdict.mismatches)
+    report["failure"] = None if verdict.success else f"verification: {msg}"
+    title = f"plan {plan.root} in {sc.name}"
+    return ExecutionResult(verdict.success, msg, format_commands(tr, title), report, tr, views,
+                           None if verdict.success else "verification")
+
+
+def _taught(plan: Plan, sc: Any) -> dict[str, dict]:
+    """Taught objects {name: {shape, position}}; every plan object must be among them."""
+    teach = {n: {"shape": o.shape, "position": list(o.center)} for n, o in sc.teach.objects.items()}
+    taught = taught_shapes(plan, teach)
+    for name in plan_objects(plan):
+        if name not in taught:
+            raise InputError(f"the plan uses object '{name}', which the scenario's teach "
+                             "workspace does not have", file=plan.file, where="root")
+        if taught[name]["shape"] not in sc.shapes:
+            raise InputError(f"object '{name}' has shape '{taught[name]['shape']}', which the "
+                             "scenario's shapes do not define", file=plan.file, where="objects")
+    return taught
+
+
+def measure_initial_state(world: Any, sc: Any, images: dict) -> tuple[list[Measured], str]:
+    """The execution workspace's objects as the object-finder sees them (Sec. VII-A 3).
+
+    The finder reads only the two camera images; the world is passed for the
+    report's ground-truth comparison, never to the finder.
+    """
+    from perception.vision.camera import default_cameras
+    from perception.vision.frames import Frame
+    from perception.vision.vfd.objects import ObjectFinder
+    from perception.vision.vfd.resources import VisionResources
+
+    finder = ObjectFinder(default_cameras(), VisionResources())
+    frame = Frame(0, world.time, images["top"], images["side"])
+    # Best-fitting first: matching is first come first served, so the surest
+    # measurement of a shape is used first and doubtful extra ones are left over.
+    found = sorted(finder.find(frame, sc.shapes), key=lambda f: f.mismatch)
+    return [Measured(f.shape, tuple(f.position), tuple(f.size)) for f in found], "object-finder"
+
+
+def _model(taught: dict, shapes: dict, matching: Any, measured: list[Measured],
+           rules: RuleSet) -> EnvModel:
+    """The execution environment model: plan objects at measured places, the rest obstacles."""
+    bodies = {}
+    for name, i in matching.assigned.items():
+        shape = taught[name]["shape"]
+        bodies[name] = Body(shape, tuple(shapes[shape]), tuple(measured[i].position))
+    for k, i in enumerate(matching.unmatched, 1):
+        m = measured[i]
+        bodies[f"unused-{m.shape}-{k}"] = Body(m.shape, tuple(m.size), tuple(m.position), False)
+    return EnvModel.measured(rules, bodies, rules.commands.home)
+
+
+def _final_state(world: Any, start: dict[str, tuple], measured: list[Measured],
+                 matching: Any) -> dict[str, ObjectState]:
+    """Final ground-truth states, named by plan object.
+
+    A plan object is the world body that started nearest to the measured
+    position it was matched to (the measurement may come from the cameras).
+    """
+    pos, ang = world.positions(), world.angles()
+    by_plan = {}
+    taken: set[str] = set()
+    for name, i in matching.assigned.items():
+        body = min((b for b in world.names if b not in taken),
+                   key=lambda b: math.dist(start[b], measured[i].position))
+        taken.add(body)
+        by_plan[name] = body
+    out = {n: ObjectState(pos[b], world.sizes[b], ang[b]) for n, b in by_plan.items()}
+    for b in world.names:
+        if b not in taken:
+            out[f"unused:{b}"] = ObjectState(pos[b], world.sizes[b], ang[b])
+    return out
+
+
+def write_views(out: OutputDir, views: dict[str, Any]) -> None:
+    """Stage each view pair as one PNG: top and side camera images side by side."""
+    import cv2
+    import numpy as np
+
+    for name, imgs in views.items():
+        cv2.imwrite(str(out.path(f"{name}.png")), np.hstack([imgs["top"], imgs["side"]]))
+
+
+def _r(v: Any) -> list[float]:
+    """Round a vector for the report."""
+    return [round(float(c), 1) for c in v]
+

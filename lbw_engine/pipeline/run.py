@@ -1,0 +1,197 @@
+"""The whole task, phase after phase: watch → analyze → execute (Sec. III-VII).
+
+``run`` goes through the phases on a loaded scenario and never raises for a
+failed task: a ``RunResult`` records what each phase produced and the *first*
+phase that went wrong (design.md: recognition, analysis, instantiation,
+execution, verification). An internal mismatch — the analysis refusing the
+recognizer's own output, a plan the executor cannot instantiate — is a failed
+task, never bad input. ``publish`` stages the run's files; ``lbw run``, ``lbw
+demo``, ``lbw bench`` and the report all use these.
+
+After watching, the recognized sequence is checked against rules/domain.yaml
+and repaired where exactly one single change fits (Sec. IX-C2,
+lbw_engine.understand.repair); analysis reads the repaired sequence, and
+``actions.json`` records every change in ``repairs``.
+
+The ground truth is consulted only *after* recognition, to check the
+recognized sequence, raw and repaired, against what a perfect eye would have
+recognized under the same rules (evaluation, perception.world.groundtruth).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from lbw_engine.do import plan as planmod
+from lbw_engine.errors import InputError, TaskFailed
+from lbw_engine.outputs import OutputDir
+from lbw_engine.pipeline.execute import execute_plan
+from lbw_engine.pipeline.watch import repair, watch
+from lbw_engine.rules import RuleSet, load_rules
+from lbw_engine.see.actions import to_actions
+from lbw_engine.understand import RelationTable, analyze, parse_actions, write_plan_text
+
+PHASES = ("recognition", "analysis", "instantiation", "execution", "verification")
+
+@dataclass
+class RunResult:
+    """Everything one end-to-end run produced, phase by phase."""
+
+    scenario: Any
+    actions: dict[str, Any]
+    recognition: dict[str, Any]
+    plan: dict[str, Any] | None = None
+    plan_text: str | None = None
+    execution: Any = None  # lbw_engine.pipeline.execute.ExecutionResult
+    failure: str | None = None  # first phase that failed, with why
+    seconds: dict[str, float] = field(default_factory=dict)
+    rules: Any = None  # the RuleSet the run used
+
+    @property
+    def success(self) -> bool:
+        """No phase failed: recognized as demonstrated (design.md: a recognition that does
+        not verify fails the task), a plan learned, and any execution verified."""
+        if self.failure or self.plan is None:
+            return False
+        return self.execution is None or bool(self.execution.success)
+
+    def report(self) -> dict[str, Any]:
+        """execution.json: the verdict of the whole run (design.md "Execution report")."""
+        out: dict[str, Any] = {"success": self.success}
+        if self.execution is not None:
+            out.update({k: v for k, v in self.execution.report.items() if k != "success"})
+        out["failure"] = self.failure if not self.success else None
+        out["recognition"] = self.recognition
+        out["seconds"] = {k: round(v, 3) for k, v in self.seconds.items()}
+        return out
+
+
+def compare_with_truth(scenario: Any, actions: dict[str, Any], rules: RuleSet
+                       ) -> dict[str, Any]:
+    """The recognized top-level sequence against the ground truth (evaluation only): what
+    the same rules make of perfect detectors (perception.world.groundtruth)."""
+    from lbw_engine.report.metrics import compare_sequence
+    from perception.world.groundtruth import expected_operations
+
+    expected = expected_operations(scenario, rules)
+    recognized = [op["operation"] for op in actions["operations"]]
+    # The bench's definition (lbw_engine/report/metrics.py): a repeated closing
+    # operation counts once (the hand leaving may be split, Fig. 12).
+    same = compare_sequence([{"operation": op} for op in expected], actions["operations"])
+    return {"expected": expected, "recognized": recognized, "exact": same["exact"],
+            "difference": same["difference"]}
+
+
+def with_repair(recognition: dict[str, Any], repaired: Any) -> dict[str, Any]:
+    """``recognition`` (the raw comparison) with ``repair``: the repaired sequence against
+    the same expected one (docs/repair.md). Without repairs it is the raw sequence."""
+    from lbw_engine.report.metrics import compare_sequence
+
+    after = {"repairs": len(repaired.repairs), "checked": repaired.checked,
+             "inconsistent": repaired.left}
+    if repaired.repairs:
+        same = compare_sequence([{"operation": op} for op in recognition["expected"]],
+                                repaired.actions["operations"])
+        after.update(recognized=repaired.operations, exact=same["exact"],
+                     difference=same["difference"])
+    else:
+        after.update(recognized=recognition["recognized"], exact=recognition["exact"],
+                     difference=recognition["difference"])
+    return {**recognition, "repair": after}
+
+
+def repair_lines(actions: dict[str, Any]) -> list[str]:
+    """One line per recognition repair of an actions.json document (never repair silently)."""
+    def names(ops: list[dict[str, Any]]) -> str:
+        return " ".join(f"{op.get('name', '?')}:{op['operation']}" for op in ops) or "nothing"
+
+    return [f"repaired at #{r['at']}: {names(r['was'])} -> {names(r['now'])} ({r['why']})"
+            for r in actions.get("repairs", [])]
+
+
+def verdict_words(recognition: dict[str, Any]) -> str:
+    """The recognition verdict in words, raw and after repair."""
+    after = recognition["repair"]
+    if recognition["exact"]:
+        return "exactly as demonstrated"
+    if after["exact"]:
+        return f"as demonstrated after {after['repairs']} repair(s)"
+    return "NOT as demonstrated"
+
+
+def run(scenario: Any, rules_dir: Any = None, fps: float = 30.0,
+        watcher: Callable[..., Any] | None = None,
+        on_step: Callable[[Any], None] | None = None) -> RunResult:
+    """Run watch → analyze → execute on a loaded scenario; never raises for a failed task.
+
+    ``watcher(scenario, rules, fps)`` replaces the plain watch (it must return
+    the recognizer), e.g. to draw the monitor display; ``on_step(world)`` is
+    called after every step of the robot's world (to record the execution).
+    Every phase that can run does (its files are written); ``failure`` names the
+    first that went wrong.
+    """
+    rules = load_rules(rules_dir)
+    clock = time.perf_counter()
+    if watcher is None:
+        recognizer, _ = watch(scenario, rules, fps=fps)
+    else:
+        recognizer = watcher(scenario, rules, fps)
+    raw = to_actions(recognizer)
+    # Sec. IX-C2: the sequence checked against domain.yaml, repaired where exactly
+    # one change fits; analysis reads the repaired one, the report keeps both.
+    repaired = repair(raw, rules)
+    actions = repaired.actions
+    result = RunResult(scenario, actions,
+                       with_repair(compare_with_truth(scenario, raw, rules), repaired),
+                       rules=rules)
+    result.seconds["watch"] = time.perf_counter() - clock
+    failures: dict[str, str] = {}
+    after = result.recognition["repair"]
+    if not after["exact"]:
+        # what was learned is not what was shown: the task failed (design.md exit codes)
+        failures["recognition"] = after["difference"] + (
+            f" (after {after['repairs']} repair(s))" if after["repairs"] else "")
+    clock = time.perf_counter()
+    try:  # the recognizer's own output: a template mismatch is a failed task, not bad input
+        seq = parse_actions(actions, RelationTable(rules.analysis.tolerance), file="actions.json")
+        analysis = analyze(seq, rules.analysis)
+    except InputError as exc:
+        failures["analysis"] = str(exc)
+    else:
+        result.plan = analysis.plan
+        result.plan_text = write_plan_text(analysis.plan)
+        result.seconds["analyze"] = time.perf_counter() - clock
+        if scenario.execute is not None:
+            clock = time.perf_counter()
+            _execute(result, scenario, rules, on_step, failures)
+            result.seconds["execute"] = time.perf_counter() - clock
+    result.failure = next((f"{phase}: {failures[phase]}" for phase in PHASES
+                           if phase in failures), None)
+    return result
+
+
+def _execute(result: RunResult, scenario: Any, rules: RuleSet,
+             on_step: Callable[[Any], None] | None, failures: dict[str, str]) -> None:
+    """Instantiate, execute and verify the learned plan; note the phase that failed."""
+    try:  # a plan the analysis wrote that execution cannot take is an internal mismatch
+        plan = planmod.parse(result.plan, file="plan.json")
+        result.execution = execute_plan(plan, scenario, rules, on_step=on_step)
+    except (InputError, TaskFailed) as exc:
+        failures["instantiation"] = str(exc)
+        return
+    if not result.execution.success:
+        failures[result.execution.phase or "execution"] = result.execution.message
+
+
+def publish(result: RunResult, out: OutputDir) -> None:
+    """Stage the run's files (design.md: actions, plan, plan text, commands, verdict)."""
+    out.write_json("actions.json", result.actions)
+    if result.plan is not None:
+        out.write_json("plan.json", result.plan)
+        out.write_text("plan.txt", result.plan_text or "")
+    if result.execution is not None:
+        out.write_text("commands.txt", result.execution.commands_text)
+    out.write_json("execution.json", result.report())
