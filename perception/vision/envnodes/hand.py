@@ -50,12 +50,14 @@ SETTLE_FRAMES = 5  # tracked frames after a (re)placement before the velocity is
 
 @dataclass(frozen=True)
 class Sample:
-    """The hand on one frame: time, tracked point, palm-checked point ("spot"), speed."""
+    """The hand on one frame: time, tracked point, palm-checked point ("spot"), speed, and
+    whether the tracker had followed the hand long enough for that speed to be trusted."""
 
     t: float
     hand: np.ndarray
     spot: np.ndarray
     speed: float
+    steady: bool = True
 
 
 class Sight:
@@ -191,7 +193,7 @@ class HandState:
         self.spot = median3(self.checked)
         self.path.add(t, self.hand)
         self.velocity = self.path.velocity
-        self.history.append(Sample(t, self.hand, self.spot, self.speed()))
+        self.history.append(Sample(t, self.hand, self.spot, self.speed(), self.steady))
         self._times.append(t)
         if t - self._times[0] > 2 * HISTORY_S:  # trim in chunks: O(1) per frame on average
             cut = bisect.bisect_left(self._times, t - HISTORY_S)

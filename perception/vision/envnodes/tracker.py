@@ -27,9 +27,9 @@ from perception.vision.envnodes.hand import Sample, box, vec
 from perception.vision.envnodes.handpath import WorkRegion, footprint
 from perception.vision.vfd.base import Region3D
 
-FAR_RISE_MM = 60.0  # the turn-down :Far cue needs the hand this far above where it worked
-FAR_DROP_MM = 30.0  # ... and then this far below the highest point it rose to since
+FAR_RISE_MM = 60.0  # the fast-rise :Far cue needs the hand this far above where it worked
 FAR_FRAMES = 2  # :Far holds on this many frames in a row (one-frame height jumps)
+FAST_S = 0.1  # s: the fast-rise :Far cue must last this long (tremor peaks are shorter)
 JOIN_MM = 10.0  # :Join while the hand stays within this height of its lowest point
 DESCENT_MM = 30.0  # ... after coming down at least this far since the motion began
 REACHED_MM = 35.0  # :Join needs the hand (held block) within this of the target's top;
@@ -82,13 +82,12 @@ class HandTrackerNode(EnvNodeBase):
     def away(self, query: Query, env: EnvModel) -> Detection | None:
         """The hand away from the target nodes (Table III :Far), dated at its onset.
 
-        On FAR_FRAMES frames in a row the hand is outside the targets' footprint
-        grown by ``far-margin``, or higher above its lowest point since the motion
-        began than the guided search reaches. The next target may lie in the same
-        footprint (a touch, then a pick of the same block; a place on a plank, then
-        a pick of the plank): then the hand, risen FAR_RISE_MM from where it worked,
-        comes down again by FAR_DROP_MM on its way to the next target. A Depart only
-        rises; its speed, with a 4 mm tremor, is no sign (docs/seeing.md).
+        Geometric first: on FAR_FRAMES frames in a row the hand is outside the
+        targets' footprint grown by ``far-margin``, or higher above its lowest point
+        since the motion began than the guided search reaches. The next target may
+        lie in the same footprint (a touch, then a pick of the same block): then a
+        Transfer-fast motion (over 2 V_H1, well above a slow depart with tremor),
+        kept for FAST_S once the hand has risen FAR_RISE_MM, tells it.
         """
         hand = self.hand
         low = hand.lowest(query.since)
@@ -98,16 +97,20 @@ class HandTrackerNode(EnvNodeBase):
         margin = float(self.rules.constants["far-margin"])
         reach = float(self.rules.constants["search-cycle-limit"]) * float(
             self.rules.constants["attention-region"][2])
+        recent = hand.since(hand.sight.t - FAST_S)
         floor = float(low.hand[2])
-        peak = max(float(s.hand[2]) for s in hand.since(low.t))
 
         def outside(s: Sample) -> bool:
-            z = float(s.hand[2])
-            return (work is not None and work.distance(s.hand) > margin) or z - floor > reach \
-                or (peak - floor > FAR_RISE_MM and peak - z > FAR_DROP_MM)
+            rise = float(s.hand[2]) - floor
+            return (work is not None and work.distance(s.hand) > margin) or rise > reach
 
         last = hand.history[-FAR_FRAMES:]
-        if len(last) == FAR_FRAMES and all(outside(s) for s in last):
+        away = len(last) == FAR_FRAMES and all(outside(s) for s in last)
+        # Speeds right after a re-placement are the windows converging, not the hand.
+        fast = len(recent) > 1 and recent[0].t <= hand.sight.t - FAST_S and all(
+            s.steady and float(s.hand[2]) - floor > FAR_RISE_MM and s.speed > 2 * hand.v_fast
+            for s in recent)
+        if away or fast:
             return hand.detection(t=hand.path.onset(hand.sight.t))
         return None
 
