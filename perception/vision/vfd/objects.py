@@ -20,7 +20,7 @@ import numpy as np
 
 from perception.vision.frames import Frame
 from perception.vision.vfd.base import DARK_MAX, VFD
-from perception.vision.vfd.objects_match import SilhouetteCheck, assign
+from perception.vision.vfd.objects_match import SilhouetteCheck, assign, frames, nearest
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
@@ -99,7 +99,7 @@ class ObjectFinder(VFD):
         rings: dict[int, tuple] = {}
         for i, (h_out, _, outer) in enumerate(boxes):
             for j, (h_in, _, inner) in enumerate(boxes):
-                if i != j and _frames(outer, inner) and h_out >= h_in - 3.0:
+                if i != j and frames(outer, inner) and h_out >= h_in - 3.0:
                     rings[j] = outer
         framing = {i for i, b in enumerate(boxes) if b[2] in rings.values()}
         found = []
@@ -111,7 +111,7 @@ class ObjectFinder(VFD):
                      and h < height - 3.0 and a0 <= cx <= a1 and b0 <= cy <= b1]
             base = max(below, default=0.0)
             size = np.array([x1 - x0, y1 - y0, height - base])
-            name, mismatch = _nearest(shapes, size)
+            name, mismatch = nearest(shapes, size)
             single = FoundObject(name, (float(cx), float(cy), float(base + size[2] / 2.0)),
                                  tuple(size.tolist()), mismatch)
             stack = self._hidden_stack(single, base, y0, side_img, shapes, rings.get(k))
@@ -155,7 +155,7 @@ class ObjectFinder(VFD):
             if ring is not None:  # the lower block's outline is the ring's
                 f0, g0, f1, g1 = self._footprint(ring, seam)
                 low_size = np.array([f1 - f0, g1 - g0, rest])
-                low_name, low_err = _nearest(shapes, low_size)
+                low_name, low_err = nearest(shapes, low_size)
                 low_at = ((f0 + f1) / 2.0, (g0 + g1) / 2.0)
             else:
                 width = self._width_at(cam, side, (cx, front, base + rest / 2.0))
@@ -396,20 +396,3 @@ class ObjectFinder(VFD):
         n = int(inside.sum())
         return float(solid[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][inside].sum()) / n \
             if n else 0.0
-
-
-def _frames(outer, inner, tol: float = 1.5) -> bool:
-    """Whether pixel rectangle ``outer`` encloses ``inner`` (and is larger)."""
-    area = (outer[2] - outer[0]) * (outer[3] - outer[1])
-    return (outer[0] <= inner[0] + tol and outer[1] <= inner[1] + tol and
-            outer[2] >= inner[2] - tol and outer[3] >= inner[3] - tol and
-            area > (inner[2] - inner[0]) * (inner[3] - inner[1]))
-
-
-def _nearest(shapes: Mapping[str, Sequence[float]], size: np.ndarray) -> tuple[str, float]:
-    """The database shape whose size is closest to ``size`` (summed absolute error)."""
-    if not shapes:
-        return "unknown", float("inf")
-    errs = {name: float(np.abs(np.asarray(s, float) - size).sum()) for name, s in shapes.items()}
-    name = min(errs, key=errs.get)
-    return name, errs[name]
