@@ -28,6 +28,17 @@ def watch_generated(seed: int, level: str = "nominal") -> tuple[Any, Any, dict[s
     return sc, rec, to_actions(rec)
 
 
+def watch_file(path: Any) -> tuple[Any, Any, dict[str, Any]]:
+    """(scenario, recognizer, actions.json content) of a scenario file's demonstration."""
+    from perception.world.scenario import load
+
+    sc = load(path)
+    cams = default_cameras()
+    rec, _ = watch_frames(demonstration_frames(sc, cams), cams, sc.shapes, RULES,
+                          teach_names(sc))
+    return sc, rec, to_actions(rec)
+
+
 def assert_sequence(sc: Any, actions: dict[str, Any]) -> None:
     """The recognized top-level sequence is the demonstrator's."""
     assert [op["operation"] for op in actions["operations"]] == expected_operations(sc, RULES)

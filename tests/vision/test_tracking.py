@@ -107,6 +107,22 @@ def test_hand_tracker_is_replaced_when_motion_disagrees_by_more_than_120mm():
     assert ht.stimulate((200, 100, 150))
 
 
+def test_a_far_motion_point_replaces_the_tracker_only_where_the_hand_is():
+    """Given the frame, a motion centre off the hand (dragged along a carried 180 mm beam,
+    issue #12 class 4) leaves a tracking tracker where it is; the hand seen there moves it."""
+    film, res = Film(), VisionResources()
+    ht = HandTracker(CAMS, res)
+    ht.place((0, 200, 150))
+    frame = None
+    for _ in range(3):
+        frame = film.shoot(BLOCKS + hand(0, 200, 150))
+        ht.update(frame)
+    assert not ht.stimulate((0, 340, 150), frame)
+    assert ht.tracking and dist(ht.position, (0, 200, 150)) < 10.0
+    moved = film.shoot(BLOCKS + hand(200, 100, 150))
+    assert ht.stimulate((200, 100, 150), moved)
+
+
 def test_attention_projects_a_region_into_both_views():
     from perception.vision.vfd.base import VFD
     res = VisionResources()

@@ -50,12 +50,14 @@ SETTLE_FRAMES = 5  # tracked frames after a (re)placement before the velocity is
 
 @dataclass(frozen=True)
 class Sample:
-    """The hand on one frame: time, tracked point, palm-checked point ("spot"), speed."""
+    """The hand on one frame: time, tracked point, palm-checked point ("spot"), speed, and
+    whether the tracker had followed the hand long enough for that speed to be trusted."""
 
     t: float
     hand: np.ndarray
     spot: np.ndarray
     speed: float
+    steady: bool = True
 
 
 class Sight:
@@ -158,7 +160,7 @@ class HandState:
         if self.moving is None:
             return
         if self.status == "tracking":
-            if self.tracker.stimulate(self.moving):  # re-placed: too far off (footnote 12)
+            if self.tracker.stimulate(self.moving, self.sight.frame):  # too far off (fn. 12)
                 self.settled = 0
         elif self.status == "lost" and inside(self.moving):
             self.tracker.place(self.moving)  # the same hand, found again: not a new one
@@ -191,7 +193,7 @@ class HandState:
         self.spot = median3(self.checked)
         self.path.add(t, self.hand)
         self.velocity = self.path.velocity
-        self.history.append(Sample(t, self.hand, self.spot, self.speed()))
+        self.history.append(Sample(t, self.hand, self.spot, self.speed(), self.steady))
         self._times.append(t)
         if t - self._times[0] > 2 * HISTORY_S:  # trim in chunks: O(1) per frame on average
             cut = bisect.bisect_left(self._times, t - HISTORY_S)

@@ -23,6 +23,12 @@ from perception.vision.vfd.search import SilFinder
 
 TOP_TOLERANCE_MM = 15.0  # confirmed targets: tops within this of the highest one (a support set)
 SUPPORT_TOLERANCE_MM = 8.0  # the held block's centre may lie this far off its supports' boxes
+# The approach is not vertical: at :Near the hand can be 20 mm beside the spot, and it comes
+# in over it while it descends (docs/seeing.md). A held centre up to COMING_MM outside a
+# level's footprint may still be coming in over it: the decision waits until the held block
+# is within DECIDE_MM of that level's top, and is dated back to when the waiting began.
+COMING_MM = 30.0
+DECIDE_MM = 60.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
 MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target) lasts longer
@@ -41,6 +47,7 @@ class SearchNode(EnvNodeBase):
         self.limit = int(self.rules.constants["search-cycle-limit"])
         self.default = tuple(float(v) for v in self.rules.constants["attention-region"])
         self.last: Region3D | None = None
+        self.waiting: dict[float, float] = {}  # query since -> when its search began to wait
 
     def visual_search(self, query: Query, env: EnvModel) -> Detection | None:
         """Targets found below the arriving hand and confirmed in the environment model."""
@@ -51,7 +58,11 @@ class SearchNode(EnvNodeBase):
             # motion has only just begun; just after a re-placement its velocity is unknown
             return None
         found = self.near(env)
-        return hand.detection(found=found) if found else None
+        if found is WAIT:
+            if query.since not in self.waiting:
+                self.waiting = {query.since: self.sight.t}  # a new motion: older ones are over
+            return None
+        return hand.detection(found=found, t=self.waiting.get(query.since)) if found else None
 
     def regions(self, env: EnvModel) -> tuple[list[Region3D], set[str]]:
         """The search regions, top to bottom, and the names never to report (held, riders)."""
@@ -64,6 +75,10 @@ class SearchNode(EnvNodeBase):
             node, start = held
             skip = {node.name, *env.supported_by(node.name)}
             first = 1  # the held object itself is not a target
+            # at least the empty hand's footprint: a 10 mm block held 20 mm beside the
+            # spot would otherwise miss the block it is coming in over
+            size = np.maximum(start.size, (*self.default[:2], 0.0))
+            start = Region3D.around(start.center, size)
         # Footnote 8 steps by the region's height; a thin held plate would then reach only a
         # few cm, so a step is at least the empty hand's region height (docs/seeing.md).
         step = max(float(start.size[2]), self.default[2])
@@ -77,7 +92,8 @@ class SearchNode(EnvNodeBase):
         return out, skip
 
     def near(self, env: EnvModel) -> tuple[str, ...]:
-        """Names of the confirmed targets below the hand, () when none yet."""
+        """Names of the confirmed targets below the hand, () when none yet, WAIT when a
+        held block is still coming in beside a possible support."""
         if self.hand.hand is None:
             return ()
         regions, skip = self.regions(env)
@@ -86,17 +102,25 @@ class SearchNode(EnvNodeBase):
         # (grown by 2 mm, for the tremor) so only what lies below it can be found.
         exclude = [] if held is None else [
             Region3D(tuple(np.asarray(held[1].lo) - 2.0), tuple(np.asarray(held[1].hi) + 2.0))]
+        # The smallest object that may lie below scales what counts as a silhouette.
+        sizes = [n.size for n in env.objects() if n.name not in skip and n.size is not None]
+        expect = min(sizes, key=lambda s: float(np.prod(s))) if sizes else None
+        coming = False
         for region in regions:
             self.finder.attention(region)
-            if self.finder.look(self.sight.frame, exclude) is not None:
+            if self.finder.look(self.sight.frame, exclude, expect) is not None:
                 names = self.confirm(region, env, skip, held[1] if held else None)
-                if names:
+                if names is WAIT:
+                    coming = True
+                elif names:
                     self.last = region
                     return names
             if held is not None and region.lo[2] <= 0.0:
+                if coming:
+                    return WAIT
                 self.last = region  # reached the table with no block below: the table
                 return (TABLE,)
-        return ()
+        return WAIT if coming else ()
 
     def grasped(self, hits: Sequence[EnvNode], env: EnvModel) -> tuple[str, ...]:
         """The one block an empty hand is reaching for among the blocks found below it.
@@ -126,7 +150,9 @@ class SearchNode(EnvNodeBase):
         With an object in the hand, blocks count as its supports only if its centre is
         over them (their joint footprint): a block beside the spot is not under it. Such
         a block may stand higher than the spot's supports and graze the held footprint
-        (a pyramid's upper cube beside the next place): the levels below it are tried.
+        (a pyramid's upper cube beside the next place): the levels below are tried. A
+        centre just outside a level's footprint decides nothing while the held block is
+        still high above it (it may be coming in over it): WAIT.
         """
         hits = [n for n in env.nodes_intersecting(region.center, region.size)
                 if n.name not in skip]
@@ -137,9 +163,16 @@ class SearchNode(EnvNodeBase):
         while hits:
             top = max(n.top() for n in hits)
             level = [n for n in hits if n.top() >= top - TOP_TOLERANCE_MM]
-            lo = np.min([box(n).lo for n in level], axis=0)[:2] - SUPPORT_TOLERANCE_MM
-            hi = np.max([box(n).hi for n in level], axis=0)[:2] + SUPPORT_TOLERANCE_MM
-            if np.all(held.center[:2] >= lo) and np.all(held.center[:2] <= hi):
+            lo = np.min([box(n).lo for n in level], axis=0)[:2]
+            hi = np.max([box(n).hi for n in level], axis=0)[:2]
+            out = float(np.max(np.maximum(lo - held.center[:2], held.center[:2] - hi)))
+            high = float(held.lo[2]) - top > DECIDE_MM
+            if out <= 0.0 or (out <= SUPPORT_TOLERANCE_MM and not high):
                 return tuple(n.name for n in level)
+            if out <= COMING_MM and high:
+                return WAIT
             hits = [n for n in hits if n not in level]
         return ()
+
+
+WAIT: tuple[str, ...] = ("",)  # no decision yet (a held block coming in beside a level)

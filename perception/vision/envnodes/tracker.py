@@ -106,8 +106,9 @@ class HandTrackerNode(EnvNodeBase):
 
         last = hand.history[-FAR_FRAMES:]
         away = len(last) == FAR_FRAMES and all(outside(s) for s in last)
+        # Speeds right after a re-placement are the windows converging, not the hand.
         fast = len(recent) > 1 and recent[0].t <= hand.sight.t - FAST_S and all(
-            float(s.hand[2]) - floor > FAR_RISE_MM and s.speed > 2 * hand.v_fast
+            s.steady and float(s.hand[2]) - floor > FAR_RISE_MM and s.speed > 2 * hand.v_fast
             for s in recent)
         if away or fast:
             return hand.detection(t=hand.path.onset(hand.sight.t))

@@ -77,6 +77,12 @@ def band(img: np.ndarray, lo: int, hi: int) -> np.ndarray:
     return (img >= lo) & (img <= hi)
 
 
+def silhouette(img: np.ndarray) -> np.ndarray:
+    """Boolean mask of block pixels: not dark and not the hand's gray, so the crease lines on
+    a block's outline count too (they are a third of a 10 mm cube's image)."""
+    return (img > DARK_MAX) & ((img < HAND_BAND[0]) | (img > HAND_BAND[1]))
+
+
 def centroid(mask: np.ndarray) -> tuple[float, float, int] | None:
     """Centre of mass (x, y) and count of a boolean mask, None when empty (GGE feature)."""
     ys, xs = np.nonzero(mask)

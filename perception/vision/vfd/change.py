@@ -23,6 +23,10 @@ from perception.vision.vfd.resources import VisionResources
 
 APPEARED, DISAPPEARED, NO_CHANGE = "appeared", "vanished", "nochange"  # Sec. III-D1
 AREA_THRESHOLD = 0.12  # changed fraction of the region's image area that counts as a change
+# A view whose changed area was partly behind the hand in one snapshot (block pixels in the
+# other one) sees only the uncovered part, and its centre is pulled off the object's; it is
+# left out of the position when more than this share is hidden and another view is clear.
+HIDDEN_SHARE = 0.25
 
 
 @dataclass(frozen=True)
@@ -74,17 +78,25 @@ class ChangeDetector(VFD):
         """Classify the change between two snapshots of one region and locate its centre."""
         if first.rects != last.rects:
             raise ValueError("change-detector: the two snapshots cover different regions")
-        votes, centres = {}, {}
+        votes, centres, hidden = {}, {}, {}
         for v in VIEWS:
             x0, y0 = first.rects[v][:2]
             a, b = first.pixels[v], last.pixels[v]
-            hand = band(a, *HAND_BAND) | band(b, *HAND_BAND)
+            hand_a, hand_b = band(a, *HAND_BAND), band(b, *HAND_BAND)
+            hand = hand_a | hand_b
             obj_a, obj_b = (a > DARK_MAX) & ~hand, (b > DARK_MAX) & ~hand
             appeared, gone = obj_b & ~obj_a, obj_a & ~obj_b
             net = (int(appeared.sum()) - int(gone.sum())) / max(1, a.size)
             votes[v] = net
             self.changed_fraction[v] = abs(net)
-            c = centroid(appeared if net > 0 else gone)
+            changed = appeared if net > 0 else gone
+            # Object pixels of the later (appeared) or earlier (gone) snapshot that the hand
+            # covered in the other one: the change there cannot be seen.
+            covered = hand_a & ~hand_b & (b > DARK_MAX) if net > 0 else \
+                hand_b & ~hand_a & (a > DARK_MAX)
+            n_changed, n_covered = int(changed.sum()), int(covered.sum())
+            hidden[v] = n_covered > HIDDEN_SHARE * max(1, n_changed + n_covered)
+            c = centroid(changed)
             if c is not None:
                 centres[v] = (x0 + c[0], y0 + c[1])
         view = max(VIEWS, key=lambda v: abs(votes[v]))
@@ -95,9 +107,13 @@ class ChangeDetector(VFD):
         same = [v for v in VIEWS if abs(votes[v]) >= self.area_threshold / 2
                 and np.sign(votes[v]) == np.sign(votes[view]) and v in centres]
         region = first.region
+        if len(same) == 2 and hidden[same[0]] != hidden[same[1]]:
+            same = [v for v in same if not hidden[v]]  # the clear view alone
+        elif len(same) < 2:
+            same = ["side" if "side" in centres else "top"]
         if len(same) == 2:
             self._target = self.triangulate(centres["top"], centres["side"])
-        elif "side" in centres:
+        elif same == ["side"]:
             self._target = self.cameras["side"].point_on_plane(
                 centres["side"], 1, float(region.center[1]))
         else:

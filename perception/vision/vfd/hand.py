@@ -40,6 +40,7 @@ PALM_SIDEWAYS_MM = 30.0  # and at most this far sideways from it
 MIN_PIXELS = 4  # fewer band pixels than this in a window: target lost
 HOLDER_ABOVE_TIPS_MM = 10.0  # the holder (hand centre) sits this far above the fingertips
 FINGER_FRONT_MM = 10.0  # the side camera sees the fingertips' front edge, this far forward
+HAND_AT_PIXELS = 20  # hand-band pixels around a point that show the hand there (a palm: ~150)
 
 
 # Finger window offsets point away from the palm (Sec. III-C3). The fingers hang below the
@@ -148,15 +149,43 @@ class HandTracker(VFD):
         self.lost_frames = 0
         self.running = True
 
-    def stimulate(self, xyz: Sequence[float] | None) -> bool:
-        """A motion-detector position: re-place the tracker if it is lost or too far off."""
+    def stimulate(self, xyz: Sequence[float] | None, frame: Frame | None = None) -> bool:
+        """A motion-detector position: re-place the tracker if it is lost or too far off.
+
+        Sec. V-A re-positions the tracker when the two disagree by more than the
+        repositioning distance, because the tracker then follows a false target. The
+        motion-detector's point is the centre of everything that moved, though: a
+        carried 180 mm beam drags it 100 mm and more off the hand while the tracker is
+        right. Given the ``frame``, a tracker that is tracking is therefore re-placed
+        only if the hand is really there (hand-band pixels around the point in both
+        views).
+        """
         if xyz is None:
             return False
-        if not self.tracking or self._target is None or \
-                np.linalg.norm(np.asarray(xyz) - self._target) > self.replace_mm:
+        if not self.tracking or self._target is None:
+            self.place(xyz)
+            return True
+        if np.linalg.norm(np.asarray(xyz) - self._target) > self.replace_mm and (
+                frame is None or self._hand_at(xyz, frame)):
             self.place(xyz)
             return True
         return False
+
+    def _hand_at(self, xyz: Sequence[float], frame: Frame) -> bool:
+        """Whether both views show the hand's gray around ``xyz`` (a window the palm's size)."""
+        p = np.asarray(xyz, float)
+        for view in VIEWS:
+            w, h = PALM_WIN[view]
+            win = self.resources.allocate(view)
+            try:
+                u, v = self.cameras[view].project(p)[0]
+                win.move_to(u, v, w, h, self.cameras[view].size)
+                if cv2.countNonZero(cv2.inRange(win.read(frame.view(view)), *HAND_BAND)) \
+                        < HAND_AT_PIXELS:
+                    return False
+            finally:
+                self.resources.free(win)
+        return True
 
     def reset(self) -> None:
         """Forget the position history and stop tracking until placed again."""

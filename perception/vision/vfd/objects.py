@@ -20,7 +20,7 @@ import numpy as np
 
 from perception.vision.frames import Frame
 from perception.vision.vfd.base import DARK_MAX, VFD
-from perception.vision.vfd.objects_match import SilhouetteCheck, assign
+from perception.vision.vfd.objects_match import SilhouetteCheck, assign, frames, nearest
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
@@ -50,7 +50,7 @@ class ObjectFinder(VFD):
 
     def find(self, frame: Frame, shapes: Mapping[str, Sequence[float]]) -> list[FoundObject]:
         """Segment, correspond, measure and name every block visible in ``frame``."""
-        faces = self._top_faces(frame.top)
+        faces = self._top_faces(frame.top, self._smallest_face_px(shapes))
         side_img = self._read_full("side", frame.side)
         # Side-view top faces, each grown by a pixel (the crease on its outline is its own).
         n, labels, stats, _ = cv2.connectedComponentsWithStats(
@@ -71,7 +71,7 @@ class ObjectFinder(VFD):
             if k in pairing and pairing[k][1] >= MIN_SCORE:
                 return pairing[k]
             if k not in fallback:  # the top face is too thin to see from the side
-                fallback[k] = self._height_from_silhouette(faces[k], blobs, blob_areas)
+                fallback[k] = self._height_from_silhouette(faces[k], blobs, blob_areas, solid)
             return fallback[k]
 
         def cost(pairing: dict[int, tuple[float, float]]) -> int:
@@ -99,7 +99,7 @@ class ObjectFinder(VFD):
         rings: dict[int, tuple] = {}
         for i, (h_out, _, outer) in enumerate(boxes):
             for j, (h_in, _, inner) in enumerate(boxes):
-                if i != j and _frames(outer, inner) and h_out >= h_in - 3.0:
+                if i != j and frames(outer, inner) and h_out >= h_in - 3.0:
                     rings[j] = outer
         framing = {i for i, b in enumerate(boxes) if b[2] in rings.values()}
         found = []
@@ -111,7 +111,7 @@ class ObjectFinder(VFD):
                      and h < height - 3.0 and a0 <= cx <= a1 and b0 <= cy <= b1]
             base = max(below, default=0.0)
             size = np.array([x1 - x0, y1 - y0, height - base])
-            name, mismatch = _nearest(shapes, size)
+            name, mismatch = nearest(shapes, size)
             single = FoundObject(name, (float(cx), float(cy), float(base + size[2] / 2.0)),
                                  tuple(size.tolist()), mismatch)
             stack = self._hidden_stack(single, base, y0, side_img, shapes, rings.get(k))
@@ -155,7 +155,7 @@ class ObjectFinder(VFD):
             if ring is not None:  # the lower block's outline is the ring's
                 f0, g0, f1, g1 = self._footprint(ring, seam)
                 low_size = np.array([f1 - f0, g1 - g0, rest])
-                low_name, low_err = _nearest(shapes, low_size)
+                low_name, low_err = nearest(shapes, low_size)
                 low_at = ((f0 + f1) / 2.0, (g0 + g1) / 2.0)
             else:
                 width = self._width_at(cam, side, (cx, front, base + rest / 2.0))
@@ -205,10 +205,29 @@ class ObjectFinder(VFD):
                 for x in (left - 1.0, right + 1.0)]
         return float(ends[1] - ends[0])
 
-    def _top_faces(self, top: np.ndarray) -> list[tuple[float, float, float, float]]:
-        """Top faces in the top view: their pixel rectangles (x0, y0, x1, y1)."""
+    def _smallest_face_px(self, shapes: Mapping[str, Sequence[float]]) -> float:
+        """Side (px) of the smallest top face the database allows, on the table in the top view.
+
+        The coarse look must not step over it and the face threshold must not drop it:
+        a 10 mm cube is about 3 px wide, and its crease outline leaves 1-4 bright pixels
+        (issue #12 class 3).
+        """
+        cam = self.cameras["top"]
+        side = min((min(float(s[0]), float(s[1])) for s in shapes.values()), default=30.0)
+        return side * cam.mm_to_px((0.0, 200.0, 0.0))
+
+    def _top_faces(self, top: np.ndarray, smallest: float = 10.0
+                   ) -> list[tuple[float, float, float, float]]:
+        """Top faces in the top view: their pixel rectangles (x0, y0, x1, y1).
+
+        ``smallest``: side (px) of the smallest face to find; it sets the coarse step
+        (at most the silhouette's width, which includes the crease outline) and the
+        least bright area a face may have (half of its inside).
+        """
         w, h = self.cameras["top"].size
-        coarse_win = self.resources.allocate("top", (0, 0, w, h), step=COARSE)
+        step = int(min(COARSE, max(1, np.floor(smallest))))
+        min_px = min(MIN_FACE_PX, max(1.0, 0.5 * max(0.0, smallest - 1.0) ** 2))
+        coarse_win = self.resources.allocate("top", (0, 0, w, h), step=step)
         try:
             coarse = (coarse_win.read(top) > DARK_MAX).astype(np.uint8)
         finally:
@@ -217,8 +236,8 @@ class ObjectFinder(VFD):
         rects = []
         for i in range(1, n):
             x, y, bw, bh = stats[i, :4]
-            rect = (max(0, (x - 1) * COARSE), max(0, (y - 1) * COARSE),
-                    min(w, (x + bw + 1) * COARSE), min(h, (y + bh + 1) * COARSE))
+            rect = (max(0, (x - 1) * step), max(0, (y - 1) * step),
+                    min(w, (x + bw + 1) * step), min(h, (y + bh + 1) * step))
             fine = self.resources.allocate("top", rect)
             try:
                 face = (fine.read(top) >= TOP_MIN).astype(np.uint8)
@@ -232,7 +251,7 @@ class ObjectFinder(VFD):
                 # border is a neighbouring blob's, found whole in that blob's window.
                 cut = (fx == 0 and fine.x0 > 0) or (fy == 0 and fine.y0 > 0) or \
                     (fx + fw == fw_ and fine.x0 + fw_ < w) or (fy + fh == fh_ and fine.y0 + fh_ < h)
-                if area >= MIN_FACE_PX and not cut:
+                if area >= min_px and not cut:
                     # Pixel centres are at integer coordinates. The crease line is drawn
                     # on the face outline, so the edge runs through the crease pixels
                     # just outside the bright face.
@@ -301,12 +320,18 @@ class ObjectFinder(VFD):
             out.append((max(sc0, top), float(np.mean(hits)), lab))
         return sorted(out, reverse=True)
 
-    def _height_from_silhouette(self, rect, blobs: np.ndarray, areas: np.ndarray
-                                ) -> tuple[float, float]:
-        """Height whose box [footprint] x [0, h] best covers a side-view silhouette (IoU)."""
+    def _height_from_silhouette(self, rect, blobs: np.ndarray, areas: np.ndarray,
+                                solid: np.ndarray) -> tuple[float, float]:
+        """Height whose box [footprint] x [0, h] best explains the side view.
+
+        Either the column covers one side-view silhouette (IoU), or, where the
+        silhouette runs on into a block in front of the column (a 10 mm cube behind a
+        plate's edge is one blob with it), the column is solid up to h and the side
+        image is dark just above it (its top edge).
+        """
 
         def score(h: float) -> float:
-            """IoU of the column's side image with the silhouette it overlaps most."""
+            """The better of the two fits at height ``h``."""
             hull = self._column_hull(rect, h, blobs.shape)
             if hull is None:
                 return 0.0
@@ -315,7 +340,9 @@ class ObjectFinder(VFD):
             counts = np.bincount(under, minlength=2)
             counts[0] = 0
             best = int(counts.argmax())
-            return counts[best] / float(len(under) + areas[best] - counts[best])
+            iou = counts[best] / float(len(under) + areas[best] - counts[best])
+            return max(iou, self._solid_fraction(rect, h, solid) * self._dark_above(
+                rect, h, solid))
 
         coarse = [(score(h), h) for h in np.arange(1.0, 300.0, 2.0)]
         best, h0 = max(coarse)
@@ -338,6 +365,27 @@ class ObjectFinder(VFD):
         cv2.fillConvexPoly(mask, hull, 1, cv2.LINE_8, 4)
         return (ox, oy), mask
 
+    def _dark_above(self, rect, h: float, solid: np.ndarray) -> float:
+        """Dark fraction of the side-view band a column as tall as ``h`` + 2 px would add."""
+        grown = h + 2.0 / self.cameras["side"].mm_to_px((0.0, 200.0, h))
+        hulls = [self._column_hull(rect, z, solid.shape) for z in (h, grown)]
+        if None in hulls:
+            return 0.0
+        x0 = min(o[0] for o, _ in hulls)
+        y0 = min(o[1] for o, _ in hulls)
+        x1 = max(o[0] + m.shape[1] for o, m in hulls)
+        y1 = max(o[1] + m.shape[0] for o, m in hulls)
+        canvas = []
+        for (ox, oy), m in hulls:
+            c = np.zeros((y1 - y0, x1 - x0), bool)
+            c[oy - y0:oy - y0 + m.shape[0], ox - x0:ox - x0 + m.shape[1]] = m > 0
+            canvas.append(c)
+        band = canvas[1] & ~canvas[0]
+        n = int(band.sum())
+        if n == 0:
+            return 0.0
+        return 1.0 - float(solid[y0:y1, x0:x1][band].sum()) / n
+
     def _solid_fraction(self, rect, h: float, solid: np.ndarray) -> float:
         """Fraction of the side-view image of the column [footprint] x [0, h] not dark."""
         hull = self._column_hull(rect, h, solid.shape)
@@ -348,20 +396,3 @@ class ObjectFinder(VFD):
         n = int(inside.sum())
         return float(solid[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][inside].sum()) / n \
             if n else 0.0
-
-
-def _frames(outer, inner, tol: float = 1.5) -> bool:
-    """Whether pixel rectangle ``outer`` encloses ``inner`` (and is larger)."""
-    area = (outer[2] - outer[0]) * (outer[3] - outer[1])
-    return (outer[0] <= inner[0] + tol and outer[1] <= inner[1] + tol and
-            outer[2] >= inner[2] - tol and outer[3] >= inner[3] - tol and
-            area > (inner[2] - inner[0]) * (inner[3] - inner[1]))
-
-
-def _nearest(shapes: Mapping[str, Sequence[float]], size: np.ndarray) -> tuple[str, float]:
-    """The database shape whose size is closest to ``size`` (summed absolute error)."""
-    if not shapes:
-        return "unknown", float("inf")
-    errs = {name: float(np.abs(np.asarray(s, float) - size).sum()) for name, s in shapes.items()}
-    name = min(errs, key=errs.get)
-    return name, errs[name]

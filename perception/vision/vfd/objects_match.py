@@ -1,4 +1,5 @@
-"""Object-finder correspondence: which side-view top face belongs to which top face.
+"""Object-finder correspondence (which side-view top face belongs to which top face) and the
+small rectangle and shape-database helpers the finder shares.
 
 Each top-view face proposes a few (score, height, side face) candidates (see
 ``ObjectFinder._heights``). A side-view top face is the top of one block only,
@@ -13,7 +14,7 @@ alternatives that reproduce them better replace the greedy choice.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import cv2
 import numpy as np
@@ -96,3 +97,20 @@ class SilhouetteCheck:
                 cv2.fillConvexPoly(drawn, hull, 1, cv2.LINE_8, 4)
             total += int(cv2.countNonZero(cv2.bitwise_xor(drawn, actual)))
         return total
+
+
+def frames(outer, inner, tol: float = 1.5) -> bool:
+    """Whether pixel rectangle ``outer`` encloses ``inner`` (and is larger)."""
+    area = (outer[2] - outer[0]) * (outer[3] - outer[1])
+    return (outer[0] <= inner[0] + tol and outer[1] <= inner[1] + tol and
+            outer[2] >= inner[2] - tol and outer[3] >= inner[3] - tol and
+            area > (inner[2] - inner[0]) * (inner[3] - inner[1]))
+
+
+def nearest(shapes: Mapping[str, Sequence[float]], size: np.ndarray) -> tuple[str, float]:
+    """The database shape whose size is closest to ``size`` (summed absolute error)."""
+    if not shapes:
+        return "unknown", float("inf")
+    errs = {name: float(np.abs(np.asarray(s, float) - size).sum()) for name, s in shapes.items()}
+    name = min(errs, key=errs.get)
+    return name, errs[name]

@@ -19,11 +19,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from perception.vision.frames import Frame
-from perception.vision.vfd.base import BLOCK_MIN, VFD, Region3D, centroid, region_mask
+from perception.vision.vfd.base import VFD, Region3D, centroid, region_mask, silhouette
 
 DEFAULT_REGION = (50.0, 50.0, 45.0)  # mm, footnote 6
 CYCLE_LIMIT = 4  # footnote 10
 MIN_AREA = 0.08  # fraction of a window that must be silhouette to count as found
+EXPECTED_SHARE = 0.3  # ... or this share of the smallest expected object's outline, if less
 
 
 class SilFinder(VFD):
@@ -38,12 +39,18 @@ class SilFinder(VFD):
         if pos is not None:
             self._target, self._found = pos, True
 
-    def look(self, frame: Frame, exclude: Sequence[Region3D] = ()) -> np.ndarray | None:
+    def look(self, frame: Frame, exclude: Sequence[Region3D] = (),
+             expect: Sequence[float] | None = None) -> np.ndarray | None:
         """3-D position of the silhouette inside the region on ``frame``, or None.
 
         Only pixels inside the region's projected outline count; the outlines of
         the ``exclude`` boxes (the held object, known to the environment model)
         are left out, since from both cameras it hangs over the place searched.
+        A silhouette counts when it fills ``min_area`` of that outline, or, with
+        ``expect`` (the size of the smallest object that may be there),
+        EXPECTED_SHARE of the outline of such an object at the region's centre if
+        that is less: a 12 mm cube fills 5 % of the default 50 x 50 x 45 mm region
+        (issue #12 class 3).
         """
         pts = {}
         for view in ("top", "side"):
@@ -53,8 +60,12 @@ class SilFinder(VFD):
             inside = region_mask(cam, self.region, w)
             for box in exclude:
                 inside &= ~region_mask(cam, box, w)
-            c = centroid((sub >= BLOCK_MIN) & inside)
-            if c is not None and c[2] >= self.min_area * max(1, int(inside.sum())):
+            need = self.min_area * max(1, int(inside.sum()))
+            if expect is not None:
+                small = region_mask(cam, Region3D.around(self.region.center, expect), w)
+                need = min(need, EXPECTED_SHARE * max(1, int(small.sum())))
+            c = centroid(silhouette(sub) & inside)
+            if c is not None and c[2] >= need:
                 pts[view] = (w.x0 + c[0], w.y0 + c[1])
         self.stereo = False
         if "side" not in pts:
