@@ -274,7 +274,7 @@ def resumable(partial: Path, wanted: set[tuple[int, str, str]]) -> list[dict[str
                 rec = json.loads(line)
             except json.JSONDecodeError:
                 continue
-            key = (rec.get("seed"), rec.get("level"), rec.get("family")) \
+            key = (rec.get("seed"), rec.get("level"), rec.get("family", "classic")) \
                 if isinstance(rec, dict) else None
             if key in wanted:
                 found[rec["seed"]] = rec

@@ -195,9 +195,9 @@ def beams(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
 
 
 def bridge(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
-    """Two towers of equal height apart along y and a plank across them."""
+    """Two towers of two cubes apart along y and a plank across them."""
     p = Piece("bridge")
-    levels = _ri(rng, 1, 2)
+    levels = 2  # two cubes each: the plank is lifted onto towers, at 80 mm
     d = _ri(rng, 50, 60) * 2
     tops = []
     for t, y in enumerate((-d / 2, d / 2), 1):
