@@ -17,9 +17,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from lbw_engine.do.listing import format_commands
 from lbw_engine.do.matching import Measured, match_initial_state, plan_objects, taught_shapes
 from lbw_engine.do.plan import Plan
-from lbw_engine.do.tracing import Trace, format_commands, trace
+from lbw_engine.do.tracing import Trace, trace
 from lbw_engine.do.verification import ObjectState, verify
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import Body, EnvModel
@@ -90,7 +91,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         report.update(stage="instantiation", failure=f"instantiation: {exc}", mismatches=[])
         return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report, None, views,
                                "instantiation")
-    robot = Robot(world, rules.arm_frame, rules.home, on_step=on_step, finger=rules.finger)
+    robot = Robot(world, rules.arm_frame, rules.home, on_step=on_step, finger=rules.finger,
+                  max_opening=rules.max_opening)
     report["via"] = via
     if fresh is None:
         log = robot.execute(tr.commands)
@@ -109,14 +111,17 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     robot.settle(SETTLE_S)
     views["execution-final"] = renderer.render(world.scene())
     verdict = verify(expected, expected_sup, _final_state(world, start, measured, matching),
-                     rules.support_relations)
+                     rules.support_relations, alignments=tr.alignments,
+                     coplanar_tolerance=rules.fine.coplanar_tolerance)
     report.update(verdict.to_json())
     report.update(
         stage="verification",
         commands=len(tr.commands),
         expected={"relations": [[t, n, list(o) if len(o) > 1 else o[0]]
                                 for n, (t, o) in sorted(expected_sup.items())],
-                  "positions": {n: _r(p) for n, p in sorted(expected.items())}},
+                  "positions": {n: _r(p) for n, p in sorted(expected.items())},
+                  "aligned": [{"object": a.subject, "with": a.partner, "face": a.face}
+                              for a in tr.alignments]},
         final_state_source="ground-truth",
         robot={"grasps": log.grasps, "sim_time": round(log.time, 2)},
     )
