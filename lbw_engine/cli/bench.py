@@ -1,13 +1,15 @@
 """``lbw bench``: measure the whole pipeline on seeded random scenarios.
 
 Generates N random scenarios (``perception.world.generator``; scenario i has seed
-S*1000+i and noise level nominal, 2x, 4x in turn), runs watch → analyze →
+S*1000+i, noise level nominal, 2x, 4x in turn and, three by three, each family of
+``--families`` in turn: ``generator.family_of``), runs watch → analyze →
 execute on each and reports per noise level: exact-sequence rate (raw, and after
 recognition repair, Sec. IX-C2: analysis reads the repaired sequence),
 edit-distance accuracy, segmentation timing error (median, 95th percentile),
 plan correctness (the plan root's SC+ support relations equal the true final
 relations of the moved objects), execution success, real-time factors and pixels
-read per frame. The four rates come with their 95% Wilson intervals.
+read per frame. The four rates come with their 95% Wilson intervals, per level;
+exact, plan and exec also per family (``lbw_engine.report.families``).
 
 Where the scenarios run (this process, ``--jobs N`` processes or a Dask cluster
 with ``--cluster``) is ``lbw_engine/cli/cluster.py``; it changes nothing in the
@@ -39,6 +41,7 @@ from typing import Any
 from lbw_engine.cli.cluster import executor, local_workers
 from lbw_engine.errors import InputError
 from lbw_engine.outputs import OutputDir, atomic_write_text, to_json
+from lbw_engine.report.families import format_families, summarize_families
 from lbw_engine.report.metrics import (
     compare_sequence,
     format_table,
@@ -75,14 +78,35 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="keep the records that a stopped run of the same command left in "
                              "the records FILE.partial, and run only the other scenarios")
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
+    parser.add_argument("--families", metavar="NAME[,NAME]",
+                        help="scenario families to draw from, in turn (default: all; "
+                             "perception.world.generator.FAMILIES)")
     parser.add_argument("--scenarios", metavar="DIR",
                         help="also write each generated scenario as DIR/gen-SEED-LEVEL.yaml "
                              "(to rerun a failing case with lbw run)")
 
 
-def tasks(count: int, seed: int) -> list[tuple[int, str]]:
-    """(generator seed, noise level) of each scenario of the set."""
-    return [(seed * 1000 + i, LEVELS[i % len(LEVELS)]) for i in range(count)]
+def tasks(count: int, seed: int, families: Sequence[str] | None = None
+          ) -> list[tuple[int, str, str]]:
+    """(generator seed, noise level, family) of each scenario of the set."""
+    from perception.world.generator import FAMILIES, family_of
+
+    fams = tuple(families or FAMILIES)
+    return [(seed * 1000 + i, LEVELS[i % len(LEVELS)], family_of(i, fams)) for i in range(count)]
+
+
+def parse_families(text: str | None) -> tuple[str, ...] | None:
+    """``--families a,b``: known family names, in the order given (InputError if not)."""
+    if text is None:
+        return None
+    from perception.world.generator import FAMILIES
+
+    names = tuple(n.strip() for n in text.split(",") if n.strip())
+    unknown = [n for n in names if n not in FAMILIES]
+    if unknown or not names:
+        raise InputError(f"unknown family {', '.join(unknown) or '(none given)'} "
+                         f"(families: {', '.join(FAMILIES)})", where="--families")
+    return names
 
 
 _RULES: dict[Any, tuple] = {}
@@ -117,13 +141,14 @@ def true_final(scenario: Any, roles: Any) -> set:
     return {f for f in facts if f[0] in moved}
 
 
-def run_one(task: tuple[int, str, str | None]) -> dict[str, Any]:
+def run_one(task: tuple[int, str, str, str | None]) -> dict[str, Any]:
     """Generate, watch, analyze, execute and score one scenario (runs in a worker)."""
-    seed, level, rules_dir = task
+    seed, level, family, rules_dir = task
     from perception.world.generator import generate
 
-    gen = generate(seed, level)
-    rec: dict[str, Any] = {"seed": seed, "level": level, "structures": list(gen.structures),
+    gen = generate(seed, level, family=family)
+    rec: dict[str, Any] = {"seed": seed, "level": level, "family": family,
+                           "structures": list(gen.structures),
                            "touches": gen.touches, "distractors": gen.distractors}
     try:
         _score(rec, gen.scenario(), rules_dir)
@@ -196,14 +221,15 @@ def reproducible(record: dict[str, Any]) -> dict[str, Any]:
     return {k: v for k, v in record.items() if k not in TIMINGS}
 
 
-def lost(task: tuple[int, str, str | None], exc: BaseException) -> dict[str, Any]:
+def lost(task: tuple[int, str, str, str | None], exc: BaseException) -> dict[str, Any]:
     """The record of a scenario whose worker died (the task itself catches its own errors)."""
-    seed, level, _ = task
-    return {"seed": seed, "level": level, "structures": [], "touches": 0, "distractors": 0,
+    seed, level, family, _ = task
+    return {"seed": seed, "level": level, "family": family, "structures": [], "touches": 0,
+            "distractors": 0,
             "error": f"worker lost: {type(exc).__name__}: {exc}"}
 
 
-def run_all(work: list[tuple[int, str, str | None]], pool: cf.Executor | None,
+def run_all(work: list[tuple[int, str, str, str | None]], pool: cf.Executor | None,
             partial: Path | None = None, kept: Sequence[dict[str, Any]] = (),
             ) -> list[dict[str, Any]]:
     """Run every task here (``pool`` None) or on ``pool``; with ``kept``, the records
@@ -243,7 +269,7 @@ def run_all(work: list[tuple[int, str, str | None]], pool: cf.Executor | None,
     return sorted(records, key=lambda r: r["seed"])
 
 
-def resumable(partial: Path, wanted: set[tuple[int, str]]) -> list[dict[str, Any]]:
+def resumable(partial: Path, wanted: set[tuple[int, str, str]]) -> list[dict[str, Any]]:
     """The records of a stopped run's partial file that belong to this scenario set
     (one per seed; a line torn by the stop is left out and its scenario run again)."""
     found: dict[int, dict[str, Any]] = {}
@@ -253,27 +279,30 @@ def resumable(partial: Path, wanted: set[tuple[int, str]]) -> list[dict[str, Any
                 rec = json.loads(line)
             except json.JSONDecodeError:
                 continue
-            if isinstance(rec, dict) and (rec.get("seed"), rec.get("level")) in wanted:
+            key = (rec.get("seed"), rec.get("level"), rec.get("family", "classic")) \
+                if isinstance(rec, dict) else None
+            if key in wanted:
                 found[rec["seed"]] = rec
     return list(found.values())
 
 
 def bench(count: int, seed: int, jobs: int, rules_dir: str | None = None,
           cluster: str | None = None, partial: Path | None = None,
-          resume: bool = False) -> dict[str, Any]:
+          resume: bool = False, families: Sequence[str] | None = None) -> dict[str, Any]:
     """Run the benchmark; returns the summary document, with the records as ``scenarios``.
 
     ``resume``: keep the records ``partial`` already holds and run only the others.
     """
-    work = [(s, level, rules_dir) for s, level in tasks(count, seed)]
-    kept = resumable(partial, {w[:2] for w in work}) if resume and partial else []
+    work = [(s, level, fam, rules_dir) for s, level, fam in tasks(count, seed, families)]
+    kept = resumable(partial, {w[:3] for w in work}) if resume and partial else []
     done = {r["seed"] for r in kept}
     started = time.perf_counter()
     with executor(jobs, cluster) as (pool, runner):
         records = run_all([w for w in work if w[0] not in done], pool, partial, kept)
     return {"count": count, "seed": seed, "runner": runner,
             "wall_seconds": round(time.perf_counter() - started, 1),
-            "summary": summarize(records, LEVELS), "failures": failures(records),
+            "summary": summarize(records, LEVELS),
+            "families": summarize_families(records, LEVELS), "failures": failures(records),
             "scenarios": records}
 
 
@@ -293,7 +322,8 @@ def failures(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
             elif not r["plan_correct"]:
                 what.append("plan's final relations differ from the true ones")
         if what:
-            out.append({"seed": r["seed"], "level": r["level"], "structures": r["structures"],
+            out.append({"seed": r["seed"], "level": r["level"],
+                        "family": r.get("family", "classic"), "structures": r["structures"],
                         "touches": r["touches"], "what": what})
     return out
 
@@ -319,7 +349,8 @@ def _command(args: argparse.Namespace) -> str:
     """The command line that reproduces the run's records."""
     where = f"--cluster {args.cluster}" if args.cluster else f"--jobs {args.jobs}"
     rules = f" --rules {args.rules}" if args.rules else ""
-    return f"lbw bench --count {args.count} --seed {args.seed} {where}{rules}"
+    fams = f" --families {args.families}" if args.families else ""
+    return f"lbw bench --count {args.count} --seed {args.seed} {where}{rules}{fams}"
 
 
 def run(args: argparse.Namespace) -> int:
@@ -331,17 +362,20 @@ def run(args: argparse.Namespace) -> int:
     if args.cluster:
         local_workers(args.cluster)  # a bad local:N is bad input before any work
     out, recs = _files(args)
+    families = parse_families(args.families)
     rules = str(Path(args.rules).resolve()) if args.rules else None  # workers may start elsewhere
     if args.scenarios:
         from perception.world.generator import generate
 
         with OutputDir(args.scenarios, inputs=[rules] if rules else [],
                        flag="--scenarios") as folder:
-            for seed, level in tasks(args.count, args.seed):
-                folder.write_text(f"gen-{seed}-{level}.yaml", generate(seed, level).text)
+            for seed, level, fam in tasks(args.count, args.seed, families):
+                folder.write_text(f"gen-{seed}-{level}.yaml",
+                                  generate(seed, level, family=fam).text)
     partial = recs.with_name(recs.name + ".partial")
     partial.parent.mkdir(parents=True, exist_ok=True)
-    doc = bench(args.count, args.seed, args.jobs, rules, args.cluster, partial, args.resume)
+    doc = bench(args.count, args.seed, args.jobs, rules, args.cluster, partial, args.resume,
+                families)
     records = doc.pop("scenarios")
     doc["command"] = _command(args)
     doc["records"] = str(recs)
@@ -349,10 +383,11 @@ def run(args: argparse.Namespace) -> int:
     atomic_write_text(out, to_json(doc))
     partial.unlink(missing_ok=True)
     print(format_table(doc["summary"]))
+    print(format_families(doc["families"]))
     print(f"{doc['count']} scenarios in {doc['wall_seconds']:.0f} s on {doc['runner']}; rates "
           f"with 95% Wilson intervals; {len(doc['failures'])} failing case(s):")
     for f in doc["failures"]:
-        print(f"  seed {f['seed']} ({f['level']}, {'+'.join(f['structures'])}, "
+        print(f"  seed {f['seed']} ({f['level']}, {f['family']}: {'+'.join(f['structures'])}, "
               f"{f['touches']} touch(es)): {'; '.join(f['what'])}")
     print(f"summary: {out}; per-scenario records: {recs}")
     return 0

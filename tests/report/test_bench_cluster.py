@@ -79,7 +79,7 @@ def test_a_lost_worker_is_a_crashed_record_not_the_end(monkeypatch, tmp_path):
     from lbw_engine.cli import bench as benchmod
 
     def fake(task):
-        seed, level, _ = task
+        seed, level = task[:2]
         if seed == 2:
             raise RuntimeError("worker tcp://10.0.0.1:1 died")
         return {"seed": seed, "level": level, "structures": ["tower"], "touches": 0,
@@ -88,12 +88,13 @@ def test_a_lost_worker_is_a_crashed_record_not_the_end(monkeypatch, tmp_path):
     monkeypatch.setattr(benchmod, "run_one", fake)
     partial = tmp_path / "r.jsonl.partial"
     with cf.ThreadPoolExecutor(2) as pool:
-        records = benchmod.run_all([(s, "nominal", None) for s in (3, 2, 1)], pool, partial)
+        records = benchmod.run_all([(s, "nominal", "classic", None) for s in (3, 2, 1)], pool,
+                                   partial)
     assert [r["seed"] for r in records] == [1, 2, 3]
     assert records[1]["error"] == "worker lost: RuntimeError: worker tcp://10.0.0.1:1 died"
     crashed = f"crashed: {records[1]['error']}"
-    assert benchmod.failures(records) == [{"seed": 2, "level": "nominal", "structures": [],
-                                           "touches": 0, "what": [crashed]}]
+    assert benchmod.failures(records) == [{"seed": 2, "level": "nominal", "family": "classic",
+                                           "structures": [], "touches": 0, "what": [crashed]}]
     assert sorted(json.loads(line)["seed"] for line in partial.read_text().splitlines()) == \
         [1, 2, 3]
 

@@ -1,4 +1,4 @@
-"""Seeded random scenarios: stress the recognizer (and your rule edits) on unseen work.
+"""The classic family of seeded random scenarios (perception.world.generator).
 
 ``generate(seed, level)`` writes a scenario file (design.md format) with one to
 three structures built side by side — towers, arches, tables (Fig. 18),
@@ -69,6 +69,7 @@ class Generated:
     touches: int
     distractors: int
     text: str
+    family: str = "classic"
 
     def scenario(self) -> Scenario:
         """The scenario, loaded and validated."""

@@ -1,0 +1,181 @@
+"""A family scenario from its structures: where they stand, the two initial layouts, the steps.
+
+Structures (``Piece``) are set on free table spots; every other object lies
+loose, clear of them by the classic generator's margins (room for the
+fingers), or starts stacked on another (``Piece.starts_on``, and for the
+stacked-start family stacks drawn here). A stack's top is always picked
+before its base, so no pick carries an unplanned rider. The text is
+design.md's scenario format; ``perception.world.generator.generate`` loads it
+to validate it (the symbolic replay of perception.world.layout).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from perception.world.generator.classic import (
+    CATALOGUE,
+    DISTRACTORS,
+    LEVELS,
+    MAX_HEIGHT,
+    Crowded,
+    _interleave,
+    _num,
+    free_spot,
+)
+from perception.world.generator.families import FAMILY_BUILDERS
+from perception.world.generator.pieces import Piece, Size
+from perception.world.scenario import Noise
+
+FIT = 20.0  # mm a stack's top may overhang its base's footprint in total, per axis
+
+
+@dataclass
+class Draft:
+    """A drawn family scenario before it is written out."""
+
+    family: str
+    pieces: list[Piece]
+    shapes: dict[str, Size]  # shape -> size
+    objects: dict[str, str]  # object -> shape (teach names)
+    teach: dict[str, tuple]  # object -> (x, y) | base object
+    execute: dict[str, tuple]
+    distract: dict[str, str]
+    steps: list[dict]
+    touches: int
+
+
+def draw(rng: np.random.Generator, family: str) -> Draft:
+    """One attempt at a scenario of ``family`` (Crowded or ValueError: draw again)."""
+    builders, turnable = FAMILY_BUILDERS[family]
+    pieces, taken = [], []
+    for i in range(int(rng.choice([1, 1, 2]))):
+        along_x = turnable and bool(rng.random() < 0.5)
+        p = builders[int(rng.integers(len(builders)))](rng, "ab"[i], along_x)
+        if along_x:
+            p.transpose()
+        x0, x1, y0, y1 = p.footprint()
+        cx, cy, fp = free_spot(rng, (x1 - x0, y1 - y0), taken)
+        p.shift(cx - (x0 + x1) / 2, cy - (y0 + y1) / 2)
+        taken.append(fp)
+        pieces.append(p)
+    shapes: dict[str, Size] = {}
+    for p in pieces:
+        for s, size in p.shapes.items():
+            if shapes.setdefault(s, size) != size:
+                raise Crowded()  # two pieces drew one shape name with two sizes
+    distract = {f"other{k}": str(rng.choice(DISTRACTORS))
+                for k in range(1, int(rng.choice([0, 0, 1])) + 1)}
+    shapes.update({s: CATALOGUE[s] for s in distract.values()})
+    objects = {n: s for p in pieces for n, s in p.objects.items()} | distract
+    achieves = [p.achieves for p in pieces]
+    order = _interleave(rng, achieves) if rng.random() < 0.5 else [a for x in achieves for a in x]
+    picked = [a["obj"] for a in order]
+    fixed = {t: b for p in pieces for t, b in p.starts_on.items()}
+    layouts = []
+    for _ in range(2):  # teach, execute
+        stacks = dict(fixed)
+        if family == "stacked-start":
+            _add_stacks(rng, stacks, picked, objects, shapes)
+        layouts.append(_layout(rng, objects, shapes, stacks, taken))
+    steps, touches = _steps(rng, order, layouts[0])
+    return Draft(family, pieces, shapes, objects, layouts[0], layouts[1], distract, steps,
+                 touches)
+
+
+def _add_stacks(rng: np.random.Generator, stacks: dict, picked: list[str], objects: dict,
+                shapes: dict) -> None:
+    """One or two stacks: a top picked before its base (or resting on a distractor)."""
+    def fits(top: str, base: str) -> bool:
+        t, b = shapes[objects[top]], shapes[objects[base]]
+        return t[0] <= b[0] + FIT and t[1] <= b[1] + FIT and t[2] + b[2] <= MAX_HEIGHT
+
+    later = {n: picked.index(n) if n in picked else len(picked) for n in objects}
+    pairs = [(t, b) for t in picked for b in objects if later[t] < later[b] and fits(t, b)]
+    for _ in range(int(rng.integers(1, 3))):
+        pairs = [(t, b) for t, b in pairs if not ({t, b} & (set(stacks) | set(stacks.values())))]
+        if not pairs:
+            return
+        t, b = pairs[int(rng.integers(len(pairs)))]
+        stacks[t] = b
+
+
+def _layout(rng: np.random.Generator, objects: dict, shapes: dict, stacks: dict,
+            taken: list) -> dict[str, tuple]:
+    """Initial positions: (x, y) on the table, or (base,) for a stack's top."""
+    out: dict[str, tuple] = {}
+    busy = list(taken)
+    for name in objects:
+        if name in stacks:
+            continue
+        chain, n = [name], name
+        while n in stacks.values():  # everything standing on it, for its footprint
+            n = next(t for t, b in stacks.items() if b == n)
+            chain.append(n)
+        size = [max(shapes[objects[c]][i] for c in chain) for i in (0, 1)]
+        x, y, fp = free_spot(rng, size, busy)
+        busy.append(fp)
+        out[name] = (x, y)
+    for top, base in stacks.items():
+        out[top] = (base,)
+    return out
+
+
+def _steps(rng: np.random.Generator, order: list[dict], teach: dict) -> tuple[list[dict], int]:
+    """pick/place steps, with up to two touches of objects lying alone on the table."""
+    stacked = {n for n, w in teach.items() if len(w) == 1} | \
+        {w[0] for w in teach.values() if len(w) == 1}
+    supports = {s for a in order for s in ([a["on"]] if isinstance(a["on"], str) else a["on"])}
+    steps, touches, moved = [], 0, set()
+    for a in order:
+        free = sorted(n for n in teach if n not in moved | stacked | supports and n != a["obj"])
+        if touches < 2 and free and rng.random() < 0.2:
+            steps.append({"touch": str(rng.choice(free))})
+            touches += 1
+        steps.append({"pick": a["obj"]})
+        steps.append({"place": a["obj"], **{k: v for k, v in a.items() if k != "obj"}})
+        moved.add(a["obj"])
+    return steps, touches
+
+
+def _names(on: str | list[str], prefix: str = "") -> str:
+    """``on`` as YAML: a name or a flow list of names."""
+    return prefix + on if isinstance(on, str) else f"[{', '.join(prefix + n for n in on)}]"
+
+
+def _objects(layout: dict, objects: dict, prefix: str) -> list[str]:
+    """The lines of one workspace's objects."""
+    lines = []
+    for n, w in layout.items():
+        where = f"on: {prefix}{w[0]}" if len(w) == 1 else f"at: [{_num(w[0])}, {_num(w[1])}]"
+        lines.append(f"    {prefix}{n}: {{shape: {objects[n]}, {where}}}")
+    return lines
+
+
+def to_yaml(d: Draft, seed: int, level: str) -> str:
+    """The scenario file text (design.md format)."""
+    k, base = LEVELS[level], Noise()
+    lines = [f"# Generated by perception.world.generator (seed {seed}, noise {level}), "
+             f"family {d.family}: {', '.join(p.kind for p in d.pieces)};",
+             f"# {len(d.distract)} irrelevant object(s).",
+             f"name: gen-{seed}-{level}", f"seed: {seed}", "shapes:"]
+    lines += [f"  {s}: [{', '.join(_num(v) for v in size)}]"
+              for s, size in sorted(d.shapes.items())]
+    lines += ["noise:", f"  pixel: {base.pixel * k:g}", f"  tremor: {base.tremor * k:g}",
+              f"  speed: [{base.speed[0]:g}, {base.speed[1]:g}]", "teach:", "  objects:"]
+    lines += _objects(d.teach, d.objects, "")
+    lines.append("  demonstration:")
+    for step in d.steps:
+        kind = next(iter(step))
+        lines.append(f"    - {kind}: {step[kind]}")
+        if kind != "place":
+            continue
+        lines.append(f"      on: {_names(step['on'])}")
+        if "at" in step:
+            lines.append(f"      at: [{_num(step['at'][0])}, {_num(step['at'][1])}]")
+        if "align" in step:
+            lines.append(f"      align: {{with: {step['align'][0]}, face: {step['align'][1]}}}")
+    lines += ["execute:", "  objects:"] + _objects(d.execute, d.objects, "x-")
+    return "\n".join(lines) + "\n"

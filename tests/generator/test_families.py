@@ -1,0 +1,152 @@
+"""Scenario families (issue #12): each draws valid, loadable, buildable scenarios of its class."""
+
+import math
+
+import pytest
+
+from lbw_engine.cli import main
+from lbw_engine.cli.bench import LEVELS, tasks
+from lbw_engine.report.families import format_families, summarize_families
+from lbw_engine.report.metrics import wilson
+from perception.world.generator import FAMILIES, distinguishable, family_of, generate, stands
+from perception.world.generator.families import HAND_X
+from perception.world.scenario import load_text
+
+SEEDS = (0, 1, 2)
+
+
+def _supports(step):
+    return [s for s in step.on if s != "table"]
+
+
+def _neighbour_gaps(sc):
+    """Gaps (axis, mm) between boxes resting on the table side by side at the end."""
+    end = sc.states[-1]
+    on_table = [n for n in end.center if end.support[n] == ("table",)]
+    out = []
+    for i, a in enumerate(on_table):
+        for b in on_table[i + 1:]:
+            ba, bb = end.bounds(a), end.bounds(b)
+            for axis in (0, 1):
+                other = 1 - axis
+                if min(ba[other][1], bb[other][1]) > max(ba[other][0], bb[other][0]):
+                    out.append((axis, max(ba[axis][0], bb[axis][0]) -
+                                min(ba[axis][1], bb[axis][1])))
+    return out
+
+
+def _steps(sc):
+    return [s for s in sc.demonstration if s.kind == "place"]
+
+
+# family -> what every scenario of it must contain (the class of issue #12 it covers)
+CLASS = {
+    "classic": lambda sc: len(_steps(sc)) >= 2,
+    "axis": lambda sc: any(len(_supports(s)) >= 1 or s.at for s in _steps(sc)),
+    "gaps": lambda sc: any(0 <= g <= 10 for _, g in _neighbour_gaps(sc)),
+    "align": lambda sc: any(s.align for s in _steps(sc)),
+    "small": lambda sc: min(min(v) for v in sc.shapes.values()) <= 20,
+    "pillars": lambda sc: any(v[2] >= 110 and max(v[:2]) <= 18 for v in sc.shapes.values()),
+    "beams": lambda sc: {(180, 30), (30, 180)} <= {tuple(v[:2]) for v in sc.shapes.values()},
+    "bridge": lambda sc: any(len(_supports(s)) == 2 and all(
+        sc.states[-1].support[x] != ("table",) for x in _supports(s)) for s in _steps(sc)),
+    "three-supports": lambda sc: any(len(_supports(s)) == 3 for s in _steps(sc)),
+    "stairs": lambda sc: any(_supports(s) and s.at and math.dist(
+        s.at, sc.states[-1].center[_supports(s)[0]][:2]) >= 6 for s in _steps(sc)),
+    "stacked-start": lambda sc: any(o.on != ("table",) for w in (sc.teach, sc.execute)
+                                    for o in w.objects.values()),
+    "rearrange": lambda sc: any(sc.teach.objects[s.obj].on != ("table",)
+                                for s in sc.demonstration if s.kind == "pick"),
+}
+
+
+def test_every_family_has_a_class_check():
+    assert set(CLASS) == set(FAMILIES)
+
+
+@pytest.mark.parametrize("family,seed", [(f, s) for f in FAMILIES for s in SEEDS])
+def test_family_scenario_is_valid_and_of_its_class(family, seed):
+    g = generate(seed, "2x", family=family)
+    assert g.family == family and generate(seed, "2x", family=family).text == g.text
+    sc = load_text(g.text, "gen.yaml")  # the loader: format, bounds, overlaps, the replay
+    assert sc.noise.tremor == pytest.approx(2 * load_text(
+        generate(seed, family=family).text).noise.tremor)
+    assert CLASS[family](sc), g.text
+    sizes = list(sc.shapes.values())
+    assert all(distinguishable(a, b) for i, a in enumerate(sizes) for b in sizes[i + 1:])
+    tops = [c[2] + sc.shapes[sc.teach.objects[n].shape][2] / 2
+            for n, c in sc.states[-1].center.items()]
+    tops += [o.center[2] + o.size[2] / 2 for w in (sc.teach, sc.execute)
+             for o in w.objects.values()]
+    assert max(tops) <= 120
+    assert sorted(o.shape for o in sc.teach.objects.values()) == \
+        sorted(o.shape for o in sc.execute.objects.values())
+
+
+def test_tight_gaps_run_along_y_only_and_rows_run_along_both_axes():
+    """The demonstrator's hand closes along x: x gaps keep HAND_X; y gaps go down to 0."""
+    gaps = [g for s in range(12) for g in _neighbour_gaps(generate(s, family="gaps").scenario())]
+    assert min(g for axis, g in gaps if axis == 1) <= 2
+    assert min(g for axis, g in gaps if axis == 0) >= HAND_X
+    axes = {axis for s in range(12) for axis, _ in
+            _neighbour_gaps(generate(s, family="axis").scenario())}
+    assert axes == {0, 1}
+
+
+@pytest.mark.parametrize("family", [f for f in FAMILIES if f != "classic"])
+def test_family_demonstration_builds_its_structure(family):
+    """Physics under the demonstrator's hand builds the replayed structure, at rest."""
+    assert stands(generate(4, family=family).scenario())
+
+
+def test_unknown_family_and_structures_outside_classic_are_errors():
+    with pytest.raises(ValueError, match="unknown family"):
+        generate(1, family="towers")
+    with pytest.raises(ValueError, match="classic family only"):
+        generate(1, family="gaps", structures=["tower"])
+
+
+def test_bench_deals_every_family_at_every_level():
+    drawn = tasks(300, 1)
+    assert drawn == tasks(300, 1) and drawn[0] == (1000, "nominal", "classic")
+    seen = {(level, fam) for _, level, fam in drawn}
+    assert seen == {(level, fam) for level in LEVELS for fam in FAMILIES}
+    assert [family_of(i, ("a", "b")) for i in range(7)] == ["a"] * 3 + ["b"] * 3 + ["a"]
+    assert {f for _, _, f in tasks(30, 2, ("beams", "align"))} == {"beams", "align"}
+
+
+def _rec(family, level, exact, plan, done, error=False):
+    r = {"family": family, "level": level, "exact": exact, "plan_correct": plan,
+         "execution_success": done}
+    return dict(r, error="boom") if error else r
+
+
+# (records, family, level, n, crashed, exact, plan, exec)
+SUMMARY = [
+    ([_rec("gaps", "nominal", True, True, True)] * 3 + [_rec("gaps", "nominal", True, True, False)],
+     "gaps", "nominal", 4, 0, 4, 4, 3),
+    ([_rec("beams", "4x", False, True, False), _rec("beams", "4x", False, False, False, True)],
+     "beams", "4x", 2, 1, 0, 1, 0),
+    ([{"level": "2x", "exact": True, "plan_correct": True, "execution_success": True}],
+     "classic", "2x", 1, 0, 1, 1, 1),  # records from before families: the classic family
+]
+
+
+@pytest.mark.parametrize("records,family,level,n,crashed,exact,plan,done", SUMMARY)
+def test_family_summary_counts(records, family, level, n, crashed, exact, plan, done):
+    mixed = records + [_rec("other", level, True, True, True)]
+    s = summarize_families(mixed, LEVELS)
+    row = s[family][level]
+    assert (row["n"], row["crashed"]) == (n, crashed)
+    for figure, k in (("exact", exact), ("plan", plan), ("exec", done)):
+        assert row[figure] == pytest.approx([k, *wilson(k, n)])
+    assert s[family]["all"]["n"] == n and s["other"][level]["n"] == 1
+    assert f"{done}/{n} (" in format_families(s)
+
+
+def test_bench_rejects_an_unknown_family(tmp_path, capsys):
+    code = main(["bench", "--count", "1", "--families", "gaps,towers",
+                 "--out", str(tmp_path / "b.json")])
+    err = capsys.readouterr().err
+    assert code == 2 and "--families: unknown family towers" in err and "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
