@@ -20,7 +20,8 @@ import numpy as np
 
 from perception.vision.frames import Frame
 from perception.vision.vfd.base import DARK_MAX, VFD
-from perception.vision.vfd.objects_match import SilhouetteCheck, assign, frames, nearest
+from perception.vision.vfd.objects_match import SilhouetteCheck, assign, nearest
+from perception.vision.vfd.objects_rings import complete_rim, complete_rims, cover_of, find_rims
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
@@ -50,7 +51,8 @@ class ObjectFinder(VFD):
 
     def find(self, frame: Frame, shapes: Mapping[str, Sequence[float]]) -> list[FoundObject]:
         """Segment, correspond, measure and name every block visible in ``frame``."""
-        faces = self._top_faces(frame.top, self._smallest_face_px(shapes))
+        smallest = self._smallest_face_px(shapes)
+        faces = self._top_faces(frame.top, smallest)
         side_img = self._read_full("side", frame.side)
         # Side-view top faces, each grown by a pixel (the crease on its outline is its own).
         n, labels, stats, _ = cv2.connectedComponentsWithStats(
@@ -92,16 +94,9 @@ class ObjectFinder(VFD):
             if score < MIN_SCORE:
                 continue
             boxes.append((height, self._footprint(rect, height), rect))
-        # A top face that frames another one (a ring around it from above) belongs to a
-        # block under it, so it must be lower. A narrow ring is hardly seen from the side
-        # and may come out as high as the column it frames: its block is then measured
-        # with that column (the seam in the side view gives its height).
-        rings: dict[int, tuple] = {}
-        for i, (h_out, _, outer) in enumerate(boxes):
-            for j, (h_in, _, inner) in enumerate(boxes):
-                if i != j and frames(outer, inner) and h_out >= h_in - 3.0:
-                    rings[j] = outer
+        rings = find_rims(boxes, 0.6 * smallest)
         framing = {i for i, b in enumerate(boxes) if b[2] in rings.values()}
+        boxes = complete_rims(boxes, framing, self._footprint, shapes)
         found = []
         for k, (height, (x0, y0, x1, y1), _) in enumerate(boxes):
             if k in framing:
@@ -114,7 +109,8 @@ class ObjectFinder(VFD):
             name, mismatch = nearest(shapes, size)
             single = FoundObject(name, (float(cx), float(cy), float(base + size[2] / 2.0)),
                                  tuple(size.tolist()), mismatch)
-            stack = self._hidden_stack(single, base, y0, side_img, shapes, rings.get(k))
+            stack = self._hidden_stack(single, base, y0, side_img, shapes, rings.get(k),
+                                       boxes[k][2])
             found.extend(stack or [single])
         self._found = bool(found)
         self._target = np.array([f.position for f in found]) if found else None
@@ -130,7 +126,7 @@ class ObjectFinder(VFD):
             self.resources.free(win)
 
     def _hidden_stack(self, obj: FoundObject, base: float, front: float, side: np.ndarray,
-                      shapes: Mapping[str, Sequence[float]], ring=None
+                      shapes: Mapping[str, Sequence[float]], ring=None, face=None
                       ) -> list[FoundObject] | None:
         """Two stacked blocks where the top view shows at most a thin ring of the lower one.
 
@@ -152,24 +148,29 @@ class ObjectFinder(VFD):
             seam = base + rest
             if rest < 5.0 or not self._crease_at(cam, side, (cx, front, seam)):
                 continue
-            if ring is not None:  # the lower block's outline is the ring's
-                f0, g0, f1, g1 = self._footprint(ring, seam)
-                low_size = np.array([f1 - f0, g1 - g0, rest])
-                low_name, low_err = nearest(shapes, low_size)
-                low_at = ((f0 + f1) / 2.0, (g0 + g1) / 2.0)
-            else:
-                width = self._width_at(cam, side, (cx, front, base + rest / 2.0))
-                if width is None:
+            if ring is not None:  # the lower block's outline is the ring's, or shows in it
+                done = complete_rim(self._footprint(ring, seam), cover_of(
+                    obj, self._footprint(face, seam)), (cx, cy), rest, shapes)
+                if done is None:
                     continue
+                low_name, low_at, low_xy, low_err = done
+                low_size = np.array([*low_xy, rest])
+            else:
+                run = self._width_at(cam, side, (cx, front, base + rest / 2.0))
+                if run is None:
+                    continue
+                width, mid = run
+                # wider than what the upper block hides from above: its top would show
+                c0, d0, c1, d1 = cover_of(obj, self._footprint(face, seam))
                 fits = {n: abs(lx - width) + abs(lz - rest)
                         for n, (lx, ly, lz) in shapes.items()
-                        if lx <= sx + 8.0 and ly <= sy + 8.0}  # wider: its top would show
+                        if lx <= max(sx, c1 - c0) + 8.0 and ly <= max(sy, d1 - d0) + 8.0}
                 if not fits:
                     continue
                 low_name = min(fits, key=fits.get)
                 low_err = fits[low_name]
                 low_size = np.array([width, shapes[low_name][1], rest])
-                low_at = (cx, cy)
+                low_at = (mid, cy)  # x from the front face: the upper block may stand off-centre
             err = abs(tx - sx) + abs(ty - sy) + low_err
             if best is None or err < best[0]:
                 best = (err, top_name, tz, low_name, low_size, low_at, seam)
@@ -188,8 +189,9 @@ class ObjectFinder(VFD):
         return bool(((column > DARK_MAX) & (column <= CREASE_MAX)).any())
 
     @staticmethod
-    def _width_at(cam, side: np.ndarray, point) -> float | None:
-        """Width (mm) of the front face (-y, drawn at 170) through ``point``, on y = point.
+    def _width_at(cam, side: np.ndarray, point) -> tuple[float, float] | None:
+        """Width and centre x (mm) of the front face (-y, drawn at 170) through ``point``,
+        on y = point.
 
         Its edges run through the crease pixels that bound the run of face pixels."""
         u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
@@ -203,7 +205,7 @@ class ObjectFinder(VFD):
             right += 1
         ends = [cam.point_on_plane((x, float(v)), 1, point[1])[0]
                 for x in (left - 1.0, right + 1.0)]
-        return float(ends[1] - ends[0])
+        return float(ends[1] - ends[0]), float(ends[0] + ends[1]) / 2.0
 
     def _smallest_face_px(self, shapes: Mapping[str, Sequence[float]]) -> float:
         """Side (px) of the smallest top face the database allows, on the table in the top view.

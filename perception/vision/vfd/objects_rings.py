@@ -1,0 +1,156 @@
+"""The lower block of a stack whose top face shows only in part (Sec. IX-B3, issue #12 class 5).
+
+From the top camera, a block standing on a wider one hides part of the lower
+block's top: its upper faces lean outwards in the image and cover the rim on
+the side away from the camera's nadir. What is left of the rim is an L or a U,
+one top-face region whose rectangle holds the upper face's centre. Measured as
+it is, that rectangle is the visible rim, not the block: a 30 mm post on a
+40 mm cube near the workspace's edge was read as a second post.
+
+The rim still gives the lower block's height and every edge it shows. An edge
+is shown on the sides where the rim reaches beyond what the upper block covers
+(its footprint, and its top face seen down to the rim's height); on the other
+sides the database shape decides, within the room the cover leaves.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+
+import numpy as np
+
+from perception.vision.vfd.objects_match import frames
+
+Box = tuple[float, tuple[float, float, float, float], tuple]  # (height, footprint, pixel rect)
+
+EDGE_MM = 1.5  # a rim edge counts as seen when it lies this far outside the cover
+
+
+def find_rims(boxes: list[Box], sliver_px: float) -> dict[int, tuple]:
+    """Upper face -> the pixel rectangle of the rim seen around it, measured as high as it.
+
+    A narrow rim is hardly seen from the side and may come out as high as the column
+    it belongs under; its block is then measured with that column (the seam in the
+    side view gives its height, ObjectFinder._hidden_stack). Such a rim frames the
+    upper face (a whole ring), or holds its centre (an L or a U: the rest is hidden),
+    or breaks into slivers thinner than any top face the database allows
+    (``sliver_px``) along the upper face's outline.
+    """
+    parts: dict[int, list[tuple]] = {}
+    for i, (h_out, _, outer) in enumerate(boxes):
+        for j, (h_in, _, inner) in enumerate(boxes):
+            if i == j:
+                continue
+            sliver = min(outer[2] - outer[0], outer[3] - outer[1]) < sliver_px <= min(
+                inner[2] - inner[0], inner[3] - inner[1]) and _touches(outer, inner)
+            framed = frames(outer, inner) and h_out >= h_in - 3.0
+            partial = not frames(outer, inner) and area_of(outer) > area_of(inner) and \
+                holds_centre(outer, inner)
+            if sliver or framed or partial:
+                parts.setdefault(j, []).append(outer)
+    return {j: _union(*p) if len(p) > 1 else p[0] for j, p in parts.items()}
+
+
+def complete_rims(boxes: list[Box], skip: set[int],
+                  footprint: Callable[[tuple, float], tuple[float, float, float, float]],
+                  shapes: Mapping[str, Sequence[float]]) -> list[Box]:
+    """``boxes`` with every partly hidden rim's footprint replaced by its block's.
+
+    A rim is a top face whose pixel rectangle holds the centre of a higher face's
+    without framing it (a whole ring frames it and is measured as it is)."""
+    out = list(boxes)
+    for k, (h, rim, rect) in enumerate(boxes):
+        uppers = [b for j, b in enumerate(boxes) if j != k and j not in skip and b[0] > h + 3.0
+                  and holds_centre(rect, b[2]) and not frames(rect, b[2])]
+        if k in skip or not uppers:
+            continue
+        h_up, foot, up_rect = max(uppers, key=lambda b: b[0])
+        cover = _union(foot, footprint(up_rect, h))  # its top face, seen down to the rim
+        cx, cy = (foot[0] + foot[2]) / 2.0, (foot[1] + foot[3]) / 2.0
+        base = max([b[0] for j, b in enumerate(boxes) if j != k and j not in skip
+                    and b[0] < h - 3.0 and b[1][0] <= cx <= b[1][2] and b[1][1] <= cy <= b[1][3]],
+                   default=0.0)
+        done = complete_rim(rim, cover, (cx, cy), h - base, shapes)
+        if done is not None:
+            _, (x, y), (sx, sy), _ = done
+            out[k] = (h, (x - sx / 2.0, y - sy / 2.0, x + sx / 2.0, y + sy / 2.0), rect)
+    return out
+
+
+def cover_of(obj, seen: Sequence[float]) -> tuple[float, float, float, float]:
+    """What a found upper block hides at a lower height: its footprint and ``seen``, the
+    extents of its top face seen down to that height."""
+    (x, y), (sx, sy) = obj.position[:2], obj.size[:2]
+    return _union((x - sx / 2.0, y - sy / 2.0, x + sx / 2.0, y + sy / 2.0), seen)
+
+
+def _union(*rects: Sequence[float]) -> tuple[float, float, float, float]:
+    """The extents (x0, y0, x1, y1) that hold all ``rects``."""
+    return (min(r[0] for r in rects), min(r[1] for r in rects),
+            max(r[2] for r in rects), max(r[3] for r in rects))
+
+
+def _touches(a: Sequence[float], b: Sequence[float], gap: float = 2.0) -> bool:
+    """Whether pixel rectangles ``a`` and ``b`` meet or lie within ``gap`` px."""
+    return a[0] <= b[2] + gap and b[0] <= a[2] + gap and a[1] <= b[3] + gap and b[1] <= a[3] + gap
+
+
+def area_of(rect: Sequence[float]) -> float:
+    """Area of a rectangle (x0, y0, x1, y1)."""
+    return (rect[2] - rect[0]) * (rect[3] - rect[1])
+
+
+def holds_centre(outer, inner, tol: float = 1.0) -> bool:
+    """Whether pixel rectangle ``outer`` holds the centre of rectangle ``inner``."""
+    cx, cy = (inner[0] + inner[2]) / 2.0, (inner[1] + inner[3]) / 2.0
+    return outer[0] - tol <= cx <= outer[2] + tol and outer[1] - tol <= cy <= outer[3] + tol
+
+
+def complete_rim(rim: Sequence[float], cover: Sequence[float], upper: Sequence[float],
+                 height: float,
+                 shapes: Mapping[str, Sequence[float]]
+                 ) -> tuple[str, tuple[float, float], tuple[float, float], float] | None:
+    """The lower block behind a partly hidden rim: (shape, centre x y, size x y, mismatch).
+
+    ``rim``: the visible rim's world extents (x0, y0, x1, y1) at its height;
+    ``cover``: the extents the upper block hides at that height; ``height``: the
+    lower block's own height. Per axis, the block's extent is measured where both
+    edges show; where one shows, the shape's size runs from it into the cover;
+    the shape must be as long as the visible rim and no longer than the rim and
+    the cover together. None when no shape fits within the room.
+    """
+    lo = np.array(rim[:2], float)
+    hi = np.array(rim[2:], float)
+    c_lo, c_hi = np.array(cover[:2], float), np.array(cover[2:], float)
+    seen_lo, seen_hi = lo < c_lo - EDGE_MM, hi > c_hi + EDGE_MM
+    room = np.maximum(hi, c_hi) - np.minimum(lo, c_lo)
+    best = None
+    for name, size in shapes.items():
+        s = np.asarray(size, float)
+        err = abs(s[2] - height)
+        for a in range(2):
+            if seen_lo[a] and seen_hi[a]:
+                err += abs(s[a] - (hi[a] - lo[a]))
+            elif s[a] > room[a] + 2 * EDGE_MM:
+                err = np.inf  # it would show beyond the cover
+            else:
+                err += max(0.0, (hi[a] - lo[a]) - s[a])  # shorter than what is seen of it
+        if np.isfinite(err) and (best is None or err < best[0]):
+            best = (float(err), name, s)
+    if best is None:
+        return None
+    err, name, s = best
+    centre, extent = [], []
+    for a in range(2):
+        if seen_lo[a] and seen_hi[a]:
+            centre.append((lo[a] + hi[a]) / 2.0)
+            extent.append(hi[a] - lo[a])
+        else:
+            if seen_lo[a]:
+                centre.append(lo[a] + s[a] / 2.0)
+            elif seen_hi[a]:
+                centre.append(hi[a] - s[a] / 2.0)
+            else:
+                centre.append(float(upper[a]))
+            extent.append(float(s[a]))
+    return name, (float(centre[0]), float(centre[1])), (float(extent[0]), float(extent[1])), err
