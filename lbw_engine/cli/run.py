@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 
 from lbw_engine.outputs import OutputDir
-from lbw_engine.pipeline.run import publish
+from lbw_engine.pipeline.run import publish, repair_lines, verdict_words
 from lbw_engine.pipeline.run import run as run_pipeline
 
 HELP = "watch a demonstration, learn its plan, execute it in the new layout and verify"
@@ -55,8 +55,9 @@ def run(args: argparse.Namespace) -> int:
         publish(result, out)
     rec = result.recognition
     print(f"lbw run: {scenario.name}: {len(rec['recognized'])} operations recognized "
-          f"({'exactly as demonstrated' if rec['exact'] else 'NOT as demonstrated'}); "
-          f"outputs in {args.out}")
+          f"({verdict_words(rec)}); outputs in {args.out}")
+    for line in repair_lines(result.actions):
+        print(f"lbw run: {line}")
     if not result.success:
         print(f"lbw run: failed: {result.failure}", file=sys.stderr)
         return 1

@@ -8,9 +8,14 @@ recognizer's own output, a plan the executor cannot instantiate — is a failed
 task, never bad input. ``publish`` stages the run's files; ``lbw run``, ``lbw
 demo``, ``lbw bench`` and the report all use these.
 
+After watching, the recognized sequence is checked against rules/domain.yaml
+and repaired where exactly one single change fits (Sec. IX-C2,
+lbw_engine.understand.repair); analysis reads the repaired sequence, and
+``actions.json`` records every change in ``repairs``.
+
 The ground truth is consulted only *after* recognition, to check the
-recognized sequence against what a perfect eye would have recognized under the
-same rules (evaluation, perception.world.groundtruth).
+recognized sequence, raw and repaired, against what a perfect eye would have
+recognized under the same rules (evaluation, perception.world.groundtruth).
 """
 
 from __future__ import annotations
@@ -24,7 +29,7 @@ from lbw_engine.do import plan as planmod
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.outputs import OutputDir
 from lbw_engine.pipeline.execute import execute_plan
-from lbw_engine.pipeline.watch import watch
+from lbw_engine.pipeline.watch import repair, watch
 from lbw_engine.rules import RuleSet, load_rules
 from lbw_engine.see.actions import to_actions
 from lbw_engine.understand import RelationTable, analyze, parse_actions, write_plan_text
@@ -80,6 +85,43 @@ def compare_with_truth(scenario: Any, actions: dict[str, Any], rules: RuleSet
             "difference": same["difference"]}
 
 
+def with_repair(recognition: dict[str, Any], repaired: Any) -> dict[str, Any]:
+    """``recognition`` (the raw comparison) with ``repair``: the repaired sequence against
+    the same expected one (docs/repair.md). Without repairs it is the raw sequence."""
+    from lbw_engine.report.metrics import compare_sequence
+
+    after = {"repairs": len(repaired.repairs), "checked": repaired.checked,
+             "inconsistent": repaired.left}
+    if repaired.repairs:
+        same = compare_sequence([{"operation": op} for op in recognition["expected"]],
+                                repaired.actions["operations"])
+        after.update(recognized=repaired.operations, exact=same["exact"],
+                     difference=same["difference"])
+    else:
+        after.update(recognized=recognition["recognized"], exact=recognition["exact"],
+                     difference=recognition["difference"])
+    return {**recognition, "repair": after}
+
+
+def repair_lines(actions: dict[str, Any]) -> list[str]:
+    """One line per recognition repair of an actions.json document (never repair silently)."""
+    def names(ops: list[dict[str, Any]]) -> str:
+        return " ".join(f"{op.get('name', '?')}:{op['operation']}" for op in ops) or "nothing"
+
+    return [f"repaired at #{r['at']}: {names(r['was'])} -> {names(r['now'])} ({r['why']})"
+            for r in actions.get("repairs", [])]
+
+
+def verdict_words(recognition: dict[str, Any]) -> str:
+    """The recognition verdict in words, raw and after repair."""
+    after = recognition["repair"]
+    if recognition["exact"]:
+        return "exactly as demonstrated"
+    if after["exact"]:
+        return f"as demonstrated after {after['repairs']} repair(s)"
+    return "NOT as demonstrated"
+
+
 def run(scenario: Any, rules_dir: Any = None, fps: float = 30.0,
         watcher: Callable[..., Any] | None = None,
         on_step: Callable[[Any], None] | None = None) -> RunResult:
@@ -97,14 +139,21 @@ def run(scenario: Any, rules_dir: Any = None, fps: float = 30.0,
         recognizer, _ = watch(scenario, rules, fps=fps)
     else:
         recognizer = watcher(scenario, rules, fps)
-    actions = to_actions(recognizer)
-    result = RunResult(scenario, actions, compare_with_truth(scenario, actions, rules),
+    raw = to_actions(recognizer)
+    # Sec. IX-C2: the sequence checked against domain.yaml, repaired where exactly
+    # one change fits; analysis reads the repaired one, the report keeps both.
+    repaired = repair(raw, rules)
+    actions = repaired.actions
+    result = RunResult(scenario, actions,
+                       with_repair(compare_with_truth(scenario, raw, rules), repaired),
                        rules=rules)
     result.seconds["watch"] = time.perf_counter() - clock
     failures: dict[str, str] = {}
-    if not result.recognition["exact"]:
+    after = result.recognition["repair"]
+    if not after["exact"]:
         # what was learned is not what was shown: the task failed (design.md exit codes)
-        failures["recognition"] = result.recognition["difference"]
+        failures["recognition"] = after["difference"] + (
+            f" (after {after['repairs']} repair(s))" if after["repairs"] else "")
     clock = time.perf_counter()
     try:  # the recognizer's own output: a template mismatch is a failed task, not bad input
         seq = parse_actions(actions, RelationTable(rules.analysis.tolerance), file="actions.json")

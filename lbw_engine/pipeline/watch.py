@@ -26,3 +26,18 @@ def watch(scenario: Any, rules: Any, fps: float = 30.0, pixel_noise: float | Non
     frames = demonstration_frames(scenario, cameras, fps=fps, pixel_noise=pixel_noise)
     return watch_frames(frames, cameras, scenario.shapes, rules, teach_names(scenario),
                         on_frame)
+
+
+def repair(actions: dict[str, Any], rules: Any) -> Any:
+    """Recognition repair (Sec. IX-C2, lbw_engine.understand.repair) of a recognized
+    sequence; one the analysis could not read either (an unclassified motion) is left
+    as it is, unchecked."""
+    from lbw_engine.errors import InputError
+    from lbw_engine.understand import RelationTable, parse_actions
+    from lbw_engine.understand.repair import Repaired, repair_actions
+
+    try:
+        parse_actions(actions, RelationTable(rules.analysis.tolerance), file="actions.json")
+    except InputError as exc:
+        return Repaired(actions, left=[str(exc)], checked=False)
+    return repair_actions(actions, rules)

@@ -63,9 +63,13 @@ class ActionSequence:
 def load_actions(path: str | Path, table: RelationTable,
                  hold_relation: str | None = None) -> ActionSequence:
     """Read and check an actions.json file; relations are interned into ``table``."""
+    return parse_actions(read_actions(path), table, str(path), hold_relation)
+
+
+def read_actions(path: str | Path) -> Any:
+    """The JSON document of an actions.json file (not yet checked: ``parse_actions``)."""
     path = Path(path)
-    doc = json_document(read_text(path, expected="an actions.json file"), path)
-    return parse_actions(doc, table, str(path), hold_relation)
+    return json_document(read_text(path, expected="an actions.json file"), path)
 
 
 @without_gc

@@ -49,7 +49,13 @@ def check(state: State, op: OperationDomain, bindings: Bindings,
 def apply(state: State, op: OperationDomain, bindings: Bindings) -> State:
     """The state after ``op``: its removals (``*`` matches anything), then its additions."""
     gone = [p for atom in op.remove for p in ground(atom, bindings)]
-    kept = {f for f in state if not any(matches(p, f) for p in gone)}
+    # Exact facts go by set difference; only patterns with `*` are matched one by one
+    # (recognition repair runs whole sequences many times: docs/repair.md).
+    loose = [p for p in gone if WILDCARD in p]
+    kept = state.difference(gone)
+    if loose:
+        preds = {p[0] for p in loose}
+        kept = {f for f in kept if f[0] not in preds or not any(matches(p, f) for p in loose)}
     return frozenset(kept | {f for atom in op.add for f in ground(atom, bindings)})
 
 

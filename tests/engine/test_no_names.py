@@ -4,8 +4,9 @@ Two checks, over the words the bundled rules define (events, Table IV values,
 operations and their labels, motion classes, relations, Table V values):
 
 * the generic interpreter (lbw_engine's top-level modules, see/, model/,
-  rules/ and the symbolic domain of understand/) names no event, motion value,
-  operation or motion class anywhere — code, strings, comments or docstrings;
+  rules/, the symbolic domain and recognition repair of understand/) names no
+  event, motion value, operation or motion class anywhere — code, strings,
+  comments or docstrings;
 * no module of lbw_engine or perception holds a string literal that *is* a rule
   word (what a hard-coded oracle, a detector's value words or an ``if op ==``
   would need), relations and Table V values included.
@@ -56,7 +57,8 @@ def _files(*folders):
 
 CORE = sorted([*ENGINE.glob("*.py"), *_files("lbw_engine/see", "lbw_engine/model",
                                              "lbw_engine/rules"),
-               ENGINE / "understand" / "domain.py"])
+               ENGINE / "understand" / "domain.py", ENGINE / "understand" / "consistency.py",
+               ENGINE / "understand" / "repair.py"])
 EVERYTHING = _files("lbw_engine", "perception")
 PATTERNS = [_pattern(TEXT_WORDS - set(RULES.motions), re.IGNORECASE), _pattern(RULES.motions)]
 

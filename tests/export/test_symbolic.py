@@ -22,12 +22,17 @@ CARRY_B = ("REACH-WITH-OBJ", {**H, "object": "b", "place": "b-goal"})
 PLACE_B = ("PLACE-ON-BLOCK", {**H, "object": "b", "support": ("p",), "table": "table",
                               "place": "b-goal"})
 TOUCH_B = ("NO-OP", {**H, "object": "b"})
+TOUCH_P = ("NO-OP", {**H, "object": "p"})
 
 ROWS = [
     ("fetch-put", [REACH_B, PICK_B, CARRY_B, PLACE_B], None,
      {("on", "b", "p", "b-goal"), ("hand-empty", "hand")}),
     ("touch-then-fetch", [REACH_B, TOUCH_B, REACH_B, PICK_B], None, {("holding", "hand", "b")}),
-    ("no-op-while-carrying", [REACH_B, PICK_B, CARRY_B, TOUCH_B, PLACE_B], 3, set()),
+    # A touch ends the approach: a PLACE right after it has no place to go to.
+    ("no-op-while-carrying", [REACH_B, PICK_B, CARRY_B, TOUCH_B, PLACE_B], 4, set()),
+    # Fig. 15's FAKE while carrying: touch p with b in the hand, carry b on, put it down.
+    ("touch-while-carrying", [REACH_B, PICK_B, CARRY_B, TOUCH_P, CARRY_B, PLACE_B], None,
+     {("on", "b", "p", "b-goal")}),
     ("pick-seen-as-no-op", [REACH_B, TOUCH_B, CARRY_B, PLACE_B], 2, set()),
     ("pick-without-reach", [PICK_B], 0, set()),
     ("withdraw-anytime", [("WITHDRAW", H), REACH_B, ("WITHDRAW", H)], None, set()),
@@ -64,3 +69,10 @@ def test_planner_preconditions_are_separate():
     state = apply(loaded, D.operations["REACH"], {**H, "object": "p"})
     assert check(state, pick_p, b) == []  # a person may lift a loaded plank (Fig. 14)
     assert check(state, pick_p, b, planner=True) == [("clear", "p")]
+
+
+def test_a_planner_touches_only_with_the_empty_hand():
+    steps = [(D.operations[o], b) for o, b in [REACH_B, PICK_B, CARRY_B, TOUCH_P]]
+    assert run(INIT, steps)[1] == []
+    assert run(INIT, steps, planner=True)[1] == [
+        (3, [("hand-empty", "hand"), ("hand-at", "hand", "p")])]

@@ -10,6 +10,7 @@ from lbw_engine.report.metrics import (
     collapse_tail,
     compare_sequence,
     first_difference,
+    format_table,
     percentile,
     plan_final_relations,
     summarize,
@@ -97,6 +98,19 @@ def test_summarize_counts_crashes_as_failures():
     assert s["a"]["timing_error_median_s"] == pytest.approx(0.2)
     assert s["a"]["exact_sequence_ci95"] == pytest.approx(list(wilson(1, 2)))
     assert s["a"]["execution_success_ci95"] == pytest.approx(list(wilson(0, 2)))
+
+
+def test_exactness_after_repair_is_its_own_column():
+    rec = {"level": "a", "exact": False, "exact_repaired": True, "repairs": 2, "accuracy": 0.9,
+           "timing_errors": [], "plan_correct": True, "execution_success": True,
+           "demo_seconds": 1.0, "watch_seconds": 1.0, "total_seconds": 1.0,
+           "pixels_per_frame": 1.0}
+    s = summarize([rec, dict(rec, exact_repaired=False, repairs=0)], ["a"])["a"]
+    assert (s["exact_sequence_rate"], s["exact_repaired_rate"], s["repairs"]) == (0.0, 0.5, 2)
+    assert s["exact_repaired_ci95"] == pytest.approx(list(wilson(1, 2)))
+    header, row = format_table({"a": s}).splitlines()
+    assert header.split()[2:5] == ["exact", "exact", "rep"]
+    assert row.split()[2:4] == ["0%", "(0-66)"] and row.split()[4:6] == ["50%", "(9-91)"]
 
 
 def test_lbw_bench_command(tmp_path, capsys):
