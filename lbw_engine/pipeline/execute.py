@@ -21,7 +21,7 @@ from lbw_engine.do.matching import Measured, match_initial_state, plan_objects, 
 from lbw_engine.do.monitor import pair_by_shape
 from lbw_engine.do.plan import Plan
 from lbw_engine.do.tracing import Trace, format_commands, trace
-from lbw_engine.do.verification import ObjectState, verify
+from lbw_engine.do.verification import TOPPLE_RAD, ObjectState, verify
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.outputs import OutputDir
@@ -111,7 +111,7 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
             log, model = robot.log, tr.model
     except TaskFailed as exc:
         report.update(stage="execution", failure=f"execution: {exc}", mismatches=[],
-                      faults=injector.injected)
+                      faults=injector.injected, ground_truth_toppled=_toppled(world))
         return ExecutionResult(False, str(exc), f";;; stopped: {exc}\n", report, None, views,
                                "execution")
     names = list(matching.assigned)
@@ -134,6 +134,7 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         inferred_hidden=seen.inferred,
         ground_truth_mismatches=truth.mismatches,
         faults=injector.injected,
+        ground_truth_toppled=_toppled(world),
         robot={"grasps": log.grasps, "sim_time": round(log.time, 2)},
     )
     msg = "the executed structure matches the plan" if verdict.success else \
@@ -143,6 +144,11 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     title = f"plan {plan.root} in {sc.name}"
     return ExecutionResult(verdict.success, msg, format_commands(tr, title), report, tr, views,
                            None if verdict.success else "verification")
+
+
+def _toppled(world: Any) -> list[str]:
+    """World blocks lying tilted (ground truth, evaluation only: the bench's scoring)."""
+    return sorted(n for n, a in world.angles().items() if abs(a) > TOPPLE_RAD)
 
 
 def _steps(injector: Any, on_step: Callable[[Any], None] | None) -> Callable[[Any], None]:

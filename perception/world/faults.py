@@ -22,7 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from lbw_engine.guard import shorten
+from lbw_engine.guard import number, shorten
 from lbw_engine.yamlio import line_of
 
 KINDS = ("drop", "displace", "remove")
@@ -49,8 +49,6 @@ def parse_faults(cx: Any, raw: Any, parent: Any, objects: dict) -> tuple[Fault, 
 
     ``cx`` is the scenario loader's error context (``fail``, ``place``).
     """
-    from perception.world.scenario import _name, _number, _vector  # one checker for all keys
-
     where = "execute.faults"
     if not isinstance(raw, list):
         raise cx.fail("must be a list of faults ({during: N, kind: drop}, ...)", parent,
@@ -78,17 +76,18 @@ def parse_faults(cx: Any, raw: Any, parent: Any, objects: dict) -> tuple[Fault, 
         if isinstance(when, bool) or not isinstance(when, int) or not 1 <= when <= WHEN_MAX:
             raise cx.fail(f"must be an ACHIEVE count from 1 to {WHEN_MAX}, got {shorten(when)}",
                           item, when_key, f"{w}.{when_key}")
-        obj = None
-        if "object" in item:
-            obj = _name(cx, item["object"], item, "object", f"{w}.object")
-            if obj not in objects:
-                raise cx.fail(f"unknown object '{obj}' (not in execute.objects)", item,
-                              "object", f"{w}.object")
+        obj = item.get("object")
+        if obj is not None and (not isinstance(obj, str) or obj not in objects):
+            raise cx.fail(f"unknown object {shorten(obj)} (not in execute.objects)", item,
+                          "object", f"{w}.object")
         by = (0.0, 0.0)
         if "by" in item:
-            by = _vector(cx, item["by"], 2, item, "by", f"{w}.by")
-            for k, d in enumerate(by):
-                _number(cx, d, item["by"], k, f"{w}.by[{k}]", BY_RANGE, "mm")
+            raw_by = item["by"]
+            if not isinstance(raw_by, list) or len(raw_by) != 2:
+                raise cx.fail(f"expected a list of 2 numbers, got {shorten(raw_by)}", item,
+                              "by", f"{w}.by")
+            by = tuple(number(d, cx.place(raw_by, k, f"{w}.by[{k}]"), *BY_RANGE, unit="mm")
+                       for k, d in enumerate(raw_by))
         out.append(Fault(kind, when, obj, by, line_of(raw, i)))
     return tuple(out)
 
