@@ -20,18 +20,9 @@ import yaml
 from lbw_engine.do import plan as planmod
 from lbw_engine.paths import bundled_scenario
 from lbw_engine.rules import load_rules
-from lbw_engine.yamlio import load_file
+from lbw_engine.yamlio import load_file, plain
 
 SCENARIOS = ("build-table", "inverted-arch")
-def _plain(value: Any) -> Any:
-    """LocDict/LocList -> dict/list, so the document can be dumped again."""
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, list):
-        return [_plain(v) for v in value]
-    return value
-
-
 def random_layout(scenario: Any, seed: int) -> dict[str, dict[str, Any]]:
     """Execution objects of ``scenario`` scattered at random, clear of the final structure.
 
@@ -58,7 +49,7 @@ def with_layout(path: Any, layout: dict[str, dict[str, Any]], seed: int) -> Any:
     """The scenario at ``path`` with ``layout`` as its execute workspace."""
     from perception.world.scenario import load_text
 
-    doc = _plain(load_file(path))
+    doc = plain(load_file(path))
     doc["execute"] = {"objects": layout}
     doc["seed"] = seed
     return load_text(yaml.safe_dump(doc, sort_keys=False), f"{path}#layout-{seed}")

@@ -4,13 +4,14 @@ One case per call of ``run_case(kind, rng)``. Kinds and what runs:
 
 | kind | input mutated | command |
 |---|---|---|
-| rules | one .yaml or .lark file of a copy of rules/ | ``lbw check``, then ``lbw analyze`` |
+| rules | a rule file in a copy of rules/ | ``lbw check``, ``analyze`` (``simulate``: ``run``) |
 | scenario | a bundled scenario | ``lbw watch``, stopped after the loader unless ``simulate`` |
 | actions | a recorded actions.json | ``lbw analyze`` |
 | plan | a learned plan.json (with its scenario) | ``lbw execute``, same |
 | trace | a recorded event trace (JSON lines) | ``lbw recognize`` |
 
-``lbw analyze`` runs on the mutated rules when ``lbw check`` accepted them;
+``lbw analyze`` (and with ``simulate``, ``lbw run``) runs on the mutated rules when
+``lbw check`` accepted them;
 ``lbw watch`` and ``lbw execute`` simulate only when ``simulate`` is asked for.
 Now and then the command line itself is broken instead (input path missing or a
 folder, ``--out`` naming a file). Each run must end with exit 0, 1 or 2 (never
@@ -42,6 +43,7 @@ ACTIONS = (DATA / "fig20-build-table.actions.json", DATA / "fig12-inverted-arch.
 PLANS = ((DATA / "build-table.plan.json", ROOT / "scenarios" / "build-table.yaml"),
          (DATA / "inverted-arch.plan.json", ROOT / "scenarios" / "inverted-arch.yaml"))
 TRACES = (ROOT / "lbw_engine" / "data" / "build-table.trace.jsonl",)
+RUN_SCENARIO = ROOT / "scenarios" / "unstack.yaml"  # the fewest operations: a short lbw run
 KINDS = ("rules", "scenario", "actions", "plan", "trace")
 RULE_FILES = tuple(sorted(p.name for p in RULES.iterdir() if p.suffix in (".yaml", ".lark")))
 CASE_SECONDS = 120  # a case still running after this is counted as hung
@@ -190,7 +192,8 @@ def _parse(data: bytes, fmt: str) -> Any:
     return json.loads(text) if fmt == "json" else loads(text)
 
 
-def _setup(kind: str, rng: Any, case: Path) -> tuple[list[list[str]], str]:
+def _setup(kind: str, rng: Any, case: Path,
+           simulate: bool = False) -> tuple[list[list[str]], str]:
     """Write the case's mutated input under ``case``; return the commands and a label."""
     out = str(case / "out")
     if kind == "rules":
@@ -208,7 +211,10 @@ def _setup(kind: str, rng: Any, case: Path) -> tuple[list[list[str]], str]:
             data, label = _mutated(target.read_bytes(), fmt, rng)
             target.write_bytes(data)
         analyze = ["analyze", str(ACTIONS[0]), "--rules", str(rules), "--out", out]
-        return [["check", str(rules)], analyze], f"{name}:{label}"
+        # A rules folder that lbw check accepts must never crash lbw run (#15): with
+        # --simulate the whole pipeline runs on the smallest bundled scenario too.
+        run = ["run", str(RUN_SCENARIO), "--rules", str(rules), "--out", str(case / "run")]
+        return [["check", str(rules)], analyze, *([run] if simulate else [])], f"{name}:{label}"
     if kind == "scenario":
         base = rng.choice(SCENARIOS)
         path = case / base.name
@@ -263,7 +269,7 @@ def run_case(kind: str, rng: Any, simulate: bool = False) -> Outcome:
     """One fuzz case of ``kind`` in a fresh temporary folder."""
     with tempfile.TemporaryDirectory(prefix=f"lbw-fuzz-{kind}-") as tmp:
         case = Path(tmp)
-        commands, label = _setup(kind, rng, case)
+        commands, label = _setup(kind, rng, case, simulate)
         if rng.random() < 0.04:
             label = _break_paths(commands, rng, case)
         outcome = Outcome(kind, label)
@@ -274,8 +280,8 @@ def run_case(kind: str, rng: Any, simulate: bool = False) -> Outcome:
             for argv in commands:
                 run = run_lbw(argv, simulate)
                 outcome.runs.append(run)
-                if run.code != 0:
-                    break
+                if run.code != 0 and argv is commands[0]:
+                    break  # the input was refused; later commands would read it too
         except _Hung:
             outcome.hung = True
         finally:

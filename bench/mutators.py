@@ -23,6 +23,8 @@ from typing import Any
 
 import yaml
 
+from lbw_engine.yamlio import plain
+
 # Replaced in the dumped text (the dumpers cannot write these values themselves).
 DEEP, BOMB, HUGE = "zzDEEPzz", "zzBOMBzz", "zzHUGEzz"
 
@@ -34,15 +36,6 @@ WEIRD_STRINGS = (
 NUMBERS = (0, -0.0, -1, 1, 0.5, -273.15, 1e-300, 1e300, -1e300, 2**63, -(2**63), 10**17,
            123456789012345678, 3.0e38)
 NONFINITE = (float("nan"), float("inf"), float("-inf"))
-
-
-def _plain(value: Any) -> Any:
-    """A loader's annotated containers as plain dicts and lists."""
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, list):
-        return [_plain(v) for v in value]
-    return value
 
 
 def _paths(doc: Any) -> list[tuple[Any, Any]]:
@@ -89,7 +82,7 @@ def _nest(depth: int, rng: Any) -> Any:
 
 def mutate_tree(doc: Any, rng: Any) -> tuple[Any, str]:
     """One structural mutation of a parsed document; returns (document, label)."""
-    doc = _plain(doc)
+    doc = plain(doc)
     paths = _paths(doc) if isinstance(doc, (dict, list)) else []
     if not paths:
         return _random_value(rng), "replace-document"
@@ -133,7 +126,7 @@ def mutate_tree(doc: Any, rng: Any) -> tuple[Any, str]:
 # -- writing documents back -------------------------------------------------
 
 
-def _bomb(levels: int) -> str:
+def alias_bomb(levels: int) -> str:
     """A YAML alias bomb: ``levels`` anchors, each nine copies of the previous one."""
     text = "&a0 [1, 1, 1, 1, 1, 1, 1, 1, 1]"
     for i in range(1, levels + 1):
@@ -152,7 +145,7 @@ def _expand(text: str, fmt: str, rng: Any) -> str:
         if fmt == "yaml" and "e" in huge:
             huge = huge.replace("e", ".0e+").replace("+-", "-")
         text = text.replace(f"{quote}{HUGE}{quote}", huge, 1)
-    bomb = _bomb(rng.choice((3, 5, 7, 9))) if fmt == "yaml" else "[" + "0," * 50000 + "0]"
+    bomb = alias_bomb(rng.choice((3, 5, 7, 9))) if fmt == "yaml" else "[" + "0," * 50000 + "0]"
     return text.replace(f"{quote}{BOMB}{quote}", bomb)
 
 

@@ -143,6 +143,17 @@ def utf8(data: bytes, file: str | Path | None = None) -> str:
     return text.removeprefix("\ufeff")
 
 
+def known_keys(raw: dict, allowed: tuple[str, ...], where: str,
+               fail: Any) -> None:
+    """No key outside ``allowed`` (a typo must not be silently ignored); ``fail(message,
+    key path)`` makes the caller's InputError."""
+    for key in raw:
+        if key not in allowed:
+            path = f"{where}.{key}" if where else str(key)
+            raise fail(f"unknown key {shorten(key)} (expected one of: {', '.join(allowed)})",
+                       clip(path, 120))
+
+
 def check_size(text: str, file: str | Path | None = None) -> None:
     """Text already in memory (tests, tools) obeys the same size limit as files."""
     if len(text) > MAX_BYTES:

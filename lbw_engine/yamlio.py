@@ -112,6 +112,16 @@ _Loader.add_implicit_resolver(
 )
 
 
+def plain(value: Any) -> Any:
+    """A loaded document with its located containers (LocDict, LocList) as plain dicts
+    and lists, so that it can be dumped again."""
+    if isinstance(value, dict):
+        return {k: plain(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [plain(v) for v in value]
+    return value
+
+
 def _construct_mapping(loader: _Loader, node: yaml.MappingNode) -> LocDict:
     loader.flatten_mapping(node)
     out = LocDict()

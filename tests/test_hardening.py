@@ -17,6 +17,7 @@ from pathlib import Path
 import pytest
 
 from bench.fuzzcases import run_lbw
+from bench.mutators import alias_bomb as bomb
 from lbw_engine.guard import shorten
 from lbw_engine.yamlio import loads
 
@@ -27,13 +28,6 @@ ACTIONS = DATA / "fig20-build-table.actions.json"
 PLAN = DATA / "build-table.plan.json"
 TRACE = ROOT / "lbw_engine" / "data" / "build-table.trace.jsonl"
 HUGE = "9" * 400
-
-
-def _bomb(levels: int) -> str:
-    text = "&a0 [1, 1, 1, 1, 1, 1, 1, 1, 1]"
-    for i in range(1, levels + 1):
-        text = f"&a{i} [{text}, " + ", ".join([f"*a{i - 1}"] * 8) + "]"
-    return text
 
 
 def _replace(text: str, old: str, new: str) -> str:
@@ -141,10 +135,10 @@ ROWS = [
                                                      "attention-region: [1.0e+30, 50, 45]"))),
      2, "attention-region[0]: expected a number in [5, 300]"),
     ("extra-alias-bomb-refused",
-     scenario(lambda t: _replace(t, "brick: [30, 30, 50]", f"brick: {_bomb(9)}")),
+     scenario(lambda t: _replace(t, "brick: [30, 30, 50]", f"brick: {bomb(9)}")),
      2, "aliases (an alias bomb?)"),
     ("extra-alias-bomb-message-shortened",
-     scenario(lambda t: _replace(t, "brick: [30, 30, 50]", f"brick: {_bomb(4)}")),
+     scenario(lambda t: _replace(t, "brick: [30, 30, 50]", f"brick: {bomb(4)}")),
      2, "shapes.brick: expected a list of 3 numbers, got [[[[[1, 1, 1, 1, 1, 1, 1, 1, 1], [1,"),
     ("extra-control-character-one-line",
      scenario(lambda t: _replace(t, "name: build-table", "name: build\x01table")),
@@ -228,7 +222,7 @@ SHORTEN = [  # (value, expected text or prefix) — values printed in messages
     ("brick", "'brick'"),
     (10**400, "<an integer of about 401 digits>"),
     ("x" * 500, "'" + "x" * 78 + "…"),
-    (loads(f"a: {_bomb(3)}")["a"],
+    (loads(f"a: {bomb(3)}")["a"],
      "[[[[1, 1, 1, 1, 1, 1, 1, 1, 1], [1, 1, 1, 1, 1, 1, 1, 1, 1], [1, 1, 1, 1, 1, 1,…"),
     ({"k": "line\nbreak"}, "{'k': 'line\\nbreak'}"),
 ]

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from lbw_engine.errors import InputError
-from lbw_engine.guard import clip, json_document, read_text, shorten
+from lbw_engine.guard import clip, json_document, known_keys, read_text, shorten
 from lbw_engine.rules.analysis import PLAN_CLASSES
 
 PLOT_HEADS = ("$sequence", "$parallel", "$action")
@@ -79,7 +79,7 @@ def parse(doc: Any, file: str = "<plan>") -> Plan:
 
     if not isinstance(doc, dict) or "root" not in doc or "operators" not in doc:
         raise fail("a plan must be an object with 'root' and 'operators'", "")
-    _known(doc, TOP_KEYS, "", fail)
+    known_keys(doc, TOP_KEYS, "", fail)
     ops_raw = doc["operators"]
     if not isinstance(ops_raw, dict):
         raise fail("must be an object of operator name → operator", "operators")
@@ -100,21 +100,12 @@ def parse(doc: Any, file: str = "<plan>") -> Plan:
     return Plan(root, operators, objects, leaves, file)
 
 
-def _known(raw: dict, allowed: tuple[str, ...], where: str, fail) -> None:
-    """No key outside ``allowed``: a typo must not be silently ignored."""
-    for key in raw:
-        if key not in allowed:
-            path = f"{where}.{key}" if where else str(key)
-            raise fail(f"unknown key {shorten(key)} (expected one of: {', '.join(allowed)})",
-                       clip(path, 120))
-
-
 def _operator(name: str, body: Any, fail) -> Operator:
     """One operator entry."""
     w = f"operators.{clip(name)}"
     if not isinstance(body, dict) or "class" not in body:
         raise fail("must be an object with a 'class'", w)
-    _known(body, OPERATOR_KEYS, w, fail)
+    known_keys(body, OPERATOR_KEYS, w, fail)
     if body["class"] not in PLAN_CLASSES:
         raise fail(f"class {shorten(body['class'])} is not one of {', '.join(PLAN_CLASSES)}",
                    f"{w}.class")
@@ -228,7 +219,7 @@ def _objects(objects: Any, fail) -> None:
         where = f"objects.{clip(name)}"
         if not isinstance(o, dict) or not isinstance(o.get("shape"), str):
             raise fail("must be an object with a 'shape'", where)
-        _known(o, ("shape", "position"), where, fail)
+        known_keys(o, ("shape", "position"), where, fail)
         p = o.get("position")
         if p is not None and (not isinstance(p, list) or len(p) != 3 or not all(
                 isinstance(c, int | float) and not isinstance(c, bool) for c in p)):

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from lbw_engine.errors import InputError
-from lbw_engine.guard import clip, json_document, read_text, shorten
+from lbw_engine.guard import clip, json_document, known_keys, read_text, shorten
 from lbw_engine.understand.gcpause import without_gc
 from lbw_engine.understand.relations import Rel, RelationTable
 
@@ -87,7 +87,7 @@ def parse_actions(doc: Any, table: RelationTable, file: str = "<actions>",
 
     if not isinstance(doc, dict) or "operations" not in doc:
         raise fail("an actions file must be a JSON object with an 'operations' list")
-    _known(doc, TOP_KEYS, "", fail)
+    known_keys(doc, TOP_KEYS, "", fail)
     raw_ops = doc["operations"]
     if not isinstance(raw_ops, list):
         raise fail("must be a list of operations", "operations")
@@ -123,15 +123,6 @@ def _ends_empty(last: Operation, hold_relation: str, fail) -> None:
                        f"operations[{last.index}].final_state.relations")
 
 
-def _known(raw: dict, allowed: tuple[str, ...], where: str, fail) -> None:
-    """No key outside ``allowed``: a typo must not be silently ignored."""
-    for key in raw:
-        if key not in allowed:
-            path = f"{where}.{key}" if where else str(key)
-            raise fail(f"unknown key {shorten(key)} (expected one of: {', '.join(allowed)})",
-                       clip(path, 120))
-
-
 def _operation(i: int, raw: Any, table: RelationTable, counters: dict[str, int], fail) -> Operation:
     """One entry of ``operations``."""
     w = f"operations[{i}]"
@@ -140,7 +131,7 @@ def _operation(i: int, raw: Any, table: RelationTable, counters: dict[str, int],
     for key in OP_REQUIRED:
         if key not in raw:
             raise fail(f"missing the required key {key!r}", w)
-    _known(raw, OP_KEYS, w, fail)
+    known_keys(raw, OP_KEYS, w, fail)
     operation = raw["operation"]
     if not isinstance(operation, str) or not SYMBOL.match(operation):
         raise fail(f"must be an operation name, got {shorten(operation)}", f"{w}.operation")
@@ -156,7 +147,7 @@ def _operation(i: int, raw: Any, table: RelationTable, counters: dict[str, int],
         state = raw[key]
         if not isinstance(state, dict) or "relations" not in state:
             raise fail("must be an object with a 'relations' list", f"{w}.{key}")
-        _known(state, ("relations", "positions"), f"{w}.{key}", fail)
+        known_keys(state, ("relations", "positions"), f"{w}.{key}", fail)
         if "positions" in state:
             _positions(state["positions"], fail, f"{w}.{key}.positions")
         rels = state["relations"]
@@ -185,7 +176,7 @@ def _optional(raw: dict, w: str, fail) -> None:
         where = f"{w}.fine[{k}]"
         if not isinstance(sub, dict) or not isinstance(sub.get("operation"), str | None):
             raise fail("must be an object {operation, t_start, t_end}", where)
-        _known(sub, FINE_KEYS, where, fail)
+        known_keys(sub, FINE_KEYS, where, fail)
         _times(sub, where, fail)
 
 
@@ -231,7 +222,7 @@ def _objects(raw: Any, fail) -> None:
         if not SYMBOL.match(name) or not isinstance(obj, dict):
             raise fail("must be an object {shape, position} named by letters, digits and "
                        "- _ . +", where)
-        _known(obj, ("shape", "position"), where, fail)
+        known_keys(obj, ("shape", "position"), where, fail)
         if not isinstance(obj.get("shape"), str) or not _point(obj.get("position")):
             raise fail(f"needs a shape name and a position [x, y, z], got {shorten(obj)}",
                        where)
@@ -245,7 +236,7 @@ def _repairs(raw: Any, fail) -> None:
         where = f"repairs[{k}]"
         if not isinstance(rep, dict):
             raise fail("must be an object {at, was, now, why}", where)
-        _known(rep, REPAIR_KEYS, where, fail)
+        known_keys(rep, REPAIR_KEYS, where, fail)
         at = rep.get("at")
         if isinstance(at, bool) or not isinstance(at, int) or at < 0:
             raise fail(f"'at' must be an operation index >= 0, got {shorten(at)}", where)
