@@ -100,7 +100,10 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
                   finger=rules.finger)
     report["via"] = via
     mon = Monitored()
-    report["monitor"] = {"detections": mon.detections, "repairs": mon.repairs}
+    report["monitor"] = {"detections": mon.detections, "repairs": mon.repairs,
+                         "units": mon.spans}
+    if hasattr(on_step, "follow"):  # a recorder that shows the monitor (pictures)
+        on_step.follow(mon, robot, eyes)
     try:
         if fresh is None:
             run_monitored(plan, ruleset, model, robot, eyes, injector, mon)

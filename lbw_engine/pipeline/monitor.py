@@ -38,7 +38,7 @@ from lbw_engine.errors import TaskFailed
 from lbw_engine.model.env import EnvModel
 from lbw_engine.rules import RuleSet
 
-LOOK_POSE = (-460.0, 200.0, 150.0)  # world mm: the gripper outside both cameras' views
+LOOK_POSE = (-540.0, 200.0, 150.0)  # world mm: the gripper outside both cameras' views
 LOOK_SETTLE_S = 0.5  # s the world runs before a look: a falling block comes to rest
 NAME_GATE_MM = 15.0  # a measurement this near an expected place names its object at once
 TOPPLED_MM = 12.0  # a block seen this far off its shape's extents has fallen over
@@ -69,6 +69,7 @@ class Eyes:
         self.cameras = default_cameras()
         self.finder = ObjectFinder(self.cameras, VisionResources())
         self.last_images: dict | None = None
+        self.windows: list[tuple] = []  # the last look's blocks, as image rectangles
 
     def look(self, expected: Mapping[str, Any]) -> Look:
         """Measure the workspace and name what is seen by the plan objects expected."""
@@ -81,6 +82,8 @@ class Eyes:
         want = {n: (self.shape_of[n], p, self.shapes[self.shape_of[n]])
                 for n, p in expected.items()}
         boxes, named, inferred = explain(self.cameras, images, found, want)
+        self.windows = [(cam, _rect(self.cameras[cam], b.position, b.size), "object")
+                        for b in boxes for cam in ("top", "side")]
         measured = [Measured(f.shape, tuple(f.position), tuple(f.size)) for f in boxes]
         named.update(pair_by_shape({n: p for n, p in expected.items() if n not in named},
                                    self.shape_of, measured, NAME_GATE_MM, named.values()))
@@ -105,6 +108,8 @@ class Monitored:
     repairs: list[dict] = field(default_factory=list)
     units: int = 0
     rounds: int = 0  # repairs begun
+    spans: list[dict] = field(default_factory=list)  # each unit: operator, t_start, t_end
+    current: str | None = None  # the ACHIEVE under way (the execution video shows it)
 
 
 def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eyes: Eyes,
@@ -133,6 +138,7 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
     while todo:
         unit = todo.pop(0)
         out.units += 1
+        out.current, t0 = unit.operator, robot.world.time
         if injector is not None:
             injector.begin(out.units)
         robot.execute(unit.commands)
@@ -143,6 +149,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         robot.execute([look_cmd])
         robot.settle(LOOK_SETTLE_S)
         seen = eyes.look(unit.expected)
+        out.spans.append({"operator": unit.operator, "t_start": round(t0, 2),
+                          "t_end": round(robot.world.time, 2)})
         verdict = verify(unit.expected, unit.supports, seen.states, rules.support_relations)
         if verdict.success:
             continue
@@ -171,7 +179,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         todo += units(plan, tr.ops, snaps)
         out.model = tr.model
         again = {u.operator for u in redo} | {u.operator for u in todo if u.focus in wrong}
-        out.repairs.extend({"operator": u.operator, "commands": len(u.commands)}
+        out.repairs.extend({"operator": u.operator, "commands": len(u.commands),
+                            "t": round(robot.world.time, 2)}
                            for u in todo if u.operator in again)
     return out
 
@@ -181,6 +190,17 @@ def camera_verdict(eyes: Eyes, expected: Mapping[str, Any], supports: Mapping[st
     """The final structure through the cameras against the plan's expected final state."""
     seen = eyes.look(expected)
     return verify(expected, supports, seen.states, support_types), seen
+
+
+def _rect(cam: Any, center: Any, size: Any) -> tuple[int, int, int, int]:
+    """The pixel rectangle around a box's image in camera ``cam``."""
+    import numpy as np
+
+    corners = np.array([[center[k] + s * size[k] / 2.0 for k, s in enumerate((a, b, c))]
+                        for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)])
+    uv = cam.project(corners)
+    (u0, v0), (u1, v1) = np.floor(uv.min(axis=0)), np.ceil(uv.max(axis=0))
+    return int(u0), int(v0), int(u1) + 1, int(v1) + 1
 
 
 def _upright(names: set[str], seen: Look, eyes: Eyes) -> None:

@@ -78,6 +78,7 @@ def test_a_removed_object_without_a_spare_ends_the_run_naming_it(tmp_path, capsy
 def test_no_detection_without_faults(tmp_path, capsys):
     code, report, err = execute(tmp_path, "unstack", bundled_scenario("unstack"), capsys)
     assert code == 0, err
-    assert report["monitor"] == {"detections": [], "repairs": []}
+    assert report["monitor"]["detections"] == [] and report["monitor"]["repairs"] == []
+    assert [u["operator"] for u in report["monitor"]["units"]] == ["achieve01"]
     assert report["faults"] == []
     assert report["verification"] == {"cameras": True, "ground_truth": True}
