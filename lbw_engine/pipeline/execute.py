@@ -25,7 +25,13 @@ from lbw_engine.do.verification import TOPPLE_RAD, ObjectState, verify
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.outputs import OutputDir
-from lbw_engine.pipeline.monitor import Eyes, Monitored, camera_verdict, run_monitored
+from lbw_engine.pipeline.monitor import (
+    Eyes,
+    Monitored,
+    camera_verdict,
+    run_monitored,
+    step_aside,
+)
 from lbw_engine.rules import RuleSet
 
 SETTLE_S = 2.0  # seconds the world runs after the last command before measuring
@@ -120,6 +126,7 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     names = list(matching.assigned)
     expected = model.settled(names)
     expected_sup = model.final_supports(names)
+    step_aside(robot, rules)  # the cameras must see the structure, not the gripper
     robot.settle(SETTLE_S)
     views["execution-final"] = eyes.last_images = renderer.render(world.scene())
     verdict, seen = camera_verdict(eyes, expected, expected_sup, rules.support_relations)

@@ -134,7 +134,6 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
     out = out if out is not None else Monitored([], tr.model)
     out.model = tr.model
     done: list[Unit] = []
-    look_cmd = Command("amove", LOOK_POSE, rules.arm_frame.to_arm(LOOK_POSE))
     while todo:
         unit = todo.pop(0)
         out.units += 1
@@ -146,7 +145,7 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
             injector.end(out.units)
         out.ops.extend(unit.ops)
         done.append(unit)
-        robot.execute([look_cmd])
+        step_aside(robot, rules)
         robot.settle(LOOK_SETTLE_S)
         seen = eyes.look(unit.expected)
         out.spans.append({"operator": unit.operator, "t_start": round(t0, 2),
@@ -183,6 +182,11 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
                             "t": round(robot.world.time, 2)}
                            for u in todo if u.operator in again)
     return out
+
+
+def step_aside(robot: Any, rules: Any) -> None:
+    """Move the gripper to the look pose, out of both cameras' views."""
+    robot.execute([Command("amove", LOOK_POSE, rules.arm_frame.to_arm(LOOK_POSE))])
 
 
 def camera_verdict(eyes: Eyes, expected: Mapping[str, Any], supports: Mapping[str, tuple],
