@@ -181,10 +181,9 @@ def _execute(rec: dict[str, Any], text: str, faults: list[str], extra: str, plan
     relevant = _relevant(sc, rep)
     for f in rec["faults"]:
         f["relevant"] = f["kind"] == "drop" or f.get("object") in relevant
-    times = sorted({f["t"] for f in rec["faults"]})
-    for f in rec["faults"]:
-        later = [t for t in times if t > f["t"]]
-        end = later[0] if later else math.inf
+    for f in rec["faults"]:  # faults at one ACHIEVE's end share the look after it
+        later = [g["t"] for g in rec["faults"] if g["achieve"] > f["achieve"]]
+        end = min(later, default=math.inf)
         f["detected"] = any(f["t"] <= d["t"] <= end for d in rec["detections"])
     rec["repairable"] = not (
         rec["toppled"] or any(f["kind"] == "remove" and f["relevant"] and not extra

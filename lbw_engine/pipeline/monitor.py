@@ -208,16 +208,27 @@ def _rect(cam: Any, center: Any, size: Any) -> tuple[int, int, int, int]:
 
 
 def _upright(names: set[str], seen: Look, eyes: Eyes) -> None:
-    """A block seen with other extents than its shape's lies on a side (it fell): the
-    robot's grasps keep a block's orientation, so it cannot stand it up again."""
+    """A block seen from above with another footprint than its shape's lies on a side (it
+    fell); so does a wrong or vanished block when an unnamed one has its extents in another
+    order. The robot's grasps keep a block's orientation: it cannot stand it up again.
+    (Heights are not compared: the finder's bottoms are weak, see objects_posed.py.)"""
     for name in sorted(names):
-        st = seen.states.get(name)
-        if st is None:
-            continue
         want = eyes.shapes[eyes.shape_of[name]]
-        if max(abs(a - b) for a, b in zip(st.size, want, strict=True)) > TOPPLED_MM:
-            raise TaskFailed(f"'{name}' lies on its side (seen {_dims(st.size)} mm, its shape "
+        st = seen.states.get(name)
+        lying = [st.size] if st is not None and max(
+            abs(st.size[k] - want[k]) for k in (0, 1)) > TOPPLED_MM else []
+        if st is None:
+            lying = [m.size for i, m in enumerate(seen.measured) if i in seen.spares
+                     and _on_side(m.size, want)]
+        if lying:
+            raise TaskFailed(f"'{name}' lies on its side (seen {_dims(lying[0])} mm, its shape "
                              f"is {_dims(want)} mm); the robot cannot stand it up")
+
+
+def _on_side(size: Any, want: Any) -> bool:
+    """Extents that are the shape's in another order (within the tolerance), not upright."""
+    same = all(abs(a - b) <= TOPPLED_MM for a, b in zip(sorted(size), sorted(want), strict=True))
+    return same and max(abs(size[k] - want[k]) for k in (0, 1)) > TOPPLED_MM
 
 
 def _dims(size: Any) -> str:
