@@ -32,6 +32,7 @@ from perception.vision.vfd.objects import FoundObject
 
 GATE_MM = 15.0  # a top face this near an expected block's (in x, y) may be that block
 SIZE_MM = 8.0  # and its footprint this near the block's shape
+TOP_MM = 6.0  # an uncovered block's top face measured this near its expected x, y
 OUTLINE_SHARE = 0.3  # wrong pixels near posed blocks, per pixel of their outlines
 PASSES = 3  # passes over the expected blocks
 WORSE_PX = 12  # more wrong pixels than this is evidence against a pose (edges, noise)
@@ -168,6 +169,8 @@ def _replace_structure(boxes: list, named: dict[str, int], group: list[str],
         i for i, b in enumerate(boxes) if b is not None and i not in named.values()],
         expected[n][1], expected[n][2], any_size=True, any_height=True)})
     was = {i: boxes[i] for i in parts}
+    if not _tops_seen(group, expected, list(was.values())):
+        return False
     for i in parts:
         boxes[i] = None
     first = len(boxes)
@@ -182,6 +185,21 @@ def _replace_structure(boxes: list, named: dict[str, int], group: list[str],
     for i, b in was.items():
         boxes[i] = b
     return False
+
+
+def _tops_seen(group: list[str], expected: Mapping[str, Expected],
+               found: list[FoundObject]) -> bool:
+    """Every block of the group with nothing of the group above it shows its whole top
+    face: the finder must have measured it there (its x, y are sharp, within TOP_MM)."""
+    for n in group:
+        c, size = expected[n][1], expected[n][2]
+        covered = any(m != n and expected[m][1][2] > c[2] and all(
+            abs(expected[m][1][k] - c[k]) < (expected[m][2][k] + size[k]) / 2.0 for k in (0, 1))
+            for m in group)
+        if not covered and not any(abs(f.position[0] - c[0]) <= TOP_MM and
+                                   abs(f.position[1] - c[1]) <= TOP_MM for f in found):
+            return False
+    return True
 
 
 def _add_hidden(boxes: list, named: dict[str, int], added: list[str],
