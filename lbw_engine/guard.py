@@ -150,7 +150,8 @@ def known_keys(raw: dict, allowed: tuple[str, ...], where: str,
     for key in raw:
         if key not in allowed:
             path = f"{where}.{key}" if where else str(key)
-            raise fail(f"unknown key {shorten(key)} (expected one of: {', '.join(allowed)})",
+            expected = ", ".join(allowed)  # outside the f-string: Python 3.11 tokenizes it whole
+            raise fail(f"unknown key {shorten(key)} (expected one of: {expected})",
                        clip(path, 120))
 
 

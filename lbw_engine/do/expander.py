@@ -10,12 +10,12 @@ step is reached, so ``hand-pos`` is where the previous amove left the hand.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from lbw_engine.errors import InputError
 from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import Vec
-from lbw_engine.rules.commands import PRIMITIVES, CommandRules, Expr, Step
+from lbw_engine.rules.commands import GLOBALS, PRIMITIVES, CommandRules, Expr, Step
 
 NULL_MOVE_MM = 0.05  # an amove shorter than this goes nowhere (skip_null_moves)
 
@@ -25,9 +25,10 @@ class Command:
     """One manipulator command: amove to an arm point, or a gripper command."""
 
     name: str
-    world: Vec | None = None  # amove: target in world coordinates (mm)
-    arm: Vec | None = None  # amove: the same target in arm coordinates
+    world: Vec | None = None  # amove, push: target in world coordinates (mm)
+    arm: Vec | None = None  # amove, push: the same target in arm coordinates
     width: float | None = None  # open-hand: jaw opening (mm)
+    angle: float | None = None  # turn-wrist: jaw direction, degrees from world x
 
     def text(self) -> str:
         """The command as Fig. 24 prints it."""
@@ -35,6 +36,8 @@ class Command:
             return f"{self.name} {fvec(self.arm)}"
         if self.width is not None:
             return f"{self.name} {self.width:.1f}"
+        if self.angle is not None:
+            return f"{self.name} {self.angle:.1f}"
         return self.name
 
 
@@ -50,6 +53,9 @@ class Context:
     goal: Vec | None
     width: float
     where: str  # for error messages: the plan operator and leaf
+    wrist: float = 0.0  # the jaw direction the grip needs (degrees from world x)
+    fine: dict[str, Vec] = field(default_factory=dict)  # set-down, push-from, push-to
+    pushed: tuple[str, Vec] | None = None  # the object a push moves, and its goal centre
 
 
 class Expander:
@@ -92,6 +98,13 @@ class Expander:
             return self.rules.approach_height
         if name == "open-width":
             return ctx.width
+        if name == "wrist":
+            return ctx.wrist
+        if name in ctx.fine:
+            return ctx.fine[name]
+        if GLOBALS.get(name) == "position":
+            raise InputError(f"the operation's steps use '{name}', which only a fine motion "
+                             "gives", file=self.rules.file, where=ctx.where)
         raise InputError(f"unknown name '{name}'", file=self.rules.file, where=ctx.where)
 
     def _eval(self, expr: Expr, ctx: Context, scope: dict[str, object]) -> object:
@@ -112,12 +125,25 @@ class Expander:
     def _primitive(self, name: str, args: list[object], ctx: Context) -> None:
         """Emit one primitive and apply its expected effect to the model (Sec. VII-A 2c)."""
         effect = PRIMITIVES[name].effect
-        if effect == "move":
+        if effect in ("move", "push"):
             p = self._position(args[0], name, ctx)
             if self.rules.skip_null_moves and _dist(p, self.model.hand) < NULL_MOVE_MM:
                 return
             self.emitted.append(Command(name, world=p, arm=self.rules.arm_frame.to_arm(p)))
             self.model.move_hand(p)
+            if effect == "push" and ctx.pushed is not None:
+                obj, to = ctx.pushed  # the closed jaws bring it to its goal (fine.py)
+                at = self.model.bodies[obj].position
+                self.model.shove(obj, (to[0] - at[0], to[1] - at[1], to[2] - at[2]))
+        elif effect == "turn":
+            angle = args[0]
+            if not isinstance(angle, (int, float)):
+                raise InputError(f"'{name}' needs an angle", file=self.rules.file,
+                                 where=ctx.where)
+            if self.rules.skip_null_moves and abs(angle - self.model.wrist) < 1e-6:
+                return
+            self.emitted.append(Command(name, angle=float(angle)))
+            self.model.wrist = float(angle)
         elif effect == "release":
             width = args[0]
             if not isinstance(width, (int, float)):

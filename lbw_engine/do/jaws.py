@@ -1,69 +1,113 @@
-"""Room for the gripper's jaws: where to grip an object so the fingers hit nothing.
+"""Room for the gripper's jaws: which way they close and where they grip, clear of neighbours.
 
 The paper grips every object at its centre (Sec. VII-B) and names the lack of
-a grasp planner as a limitation (Sec. IX-B). In a crowded workspace a finger
-coming down next to an object can knock over a neighbour, so the grip point
-may slide along the object's edge, away from the jaw axis, to the first offset
+a grasp planner as a limitation (Sec. IX-B). Here the wrist turns about the
+vertical axis (design.md "Robot"), so the jaws close along world x or y, and
+the grip point may slide along the object across the jaws, to the first offset
 whose jaw regions are free. A jaw region spans from the object's side to the
 open finger's outer face, and from the fingertips up to above the approach
 height; the held object and what rides on it are not obstacles. A gap of
-``gripper.clearance`` is kept, since positions are measured by the cameras.
+``gripper.clearance`` is kept sideways, since positions are measured by the
+cameras.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 from lbw_engine.model.env import EnvModel
-from lbw_engine.model.geometry import Vec, overlap
+from lbw_engine.model.geometry import Box, Vec, overlap
 from lbw_engine.rules.commands import CommandRules
 
 STEP_MM = 5.0  # spacing of candidate grip offsets
+AXIS_NAMES = ("x", "y")
 
 
-def jaw_regions(centre: Vec, size: Vec, dy: float, rules: CommandRules) -> list[tuple[Vec, Vec]]:
-    """The two boxes the fingers sweep when gripping an object at ``centre`` + ``dy``."""
-    j = rules.jaw_axis
-    o = 1 - j
-    grip_z = centre[2] + rules.grip_offset(size)
-    z0 = grip_z - rules.tip
+def width(size: Vec, axis: int, rules: CommandRules) -> float | None:
+    """The jaw opening that takes an object of ``size`` along ``axis``; None if too wide."""
+    w = size[axis] + rules.margin
+    return w if w <= rules.max_opening + 1e-9 else None
+
+
+def tool_point(centre: Vec, size: Vec, axis: int, offset: float, rules: CommandRules) -> Vec:
+    """Where the arm's tool point goes to grip an object centred at ``centre``."""
+    p = [centre[0], centre[1], centre[2] + rules.grip_offset(size)]
+    p[1 - axis] += offset
+    return (p[0], p[1], p[2])
+
+
+def column(centre: Vec, extent: tuple[float, float], axis: int, across: float,
+           grip_z: float, rules: CommandRules) -> Box:
+    """A finger-like box: ``extent`` along ``axis``, ``across`` wide on the other horizontal
+    axis around ``centre``, from the fingertips (tool point at ``grip_z``) up past the
+    approach height.
+
+    It reaches ``tip-clearance`` below the fingertips: a neighbour whose top is level
+    with them would be rubbed by the closing fingers (and dragged along: found on a
+    60 mm brick gripped beside a 20 mm plank, whose top the fingertips just met).
+    """
+    z0 = grip_z - rules.tip - rules.tip_clearance
     z1 = max(grip_z, rules.approach_height) - rules.tip + rules.finger[2]
-    inner = size[j] / 2
-    outer = (size[j] + rules.margin) / 2 + rules.finger[0]
-    boxes = []
-    for side in (-1, 1):
-        c, s = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
-        c[j], s[j] = centre[j] + side * (inner + outer) / 2, outer - inner
-        c[o], s[o] = centre[o] + dy, rules.finger[1]
-        c[2], s[2] = (z0 + z1) / 2, z1 - z0
-        boxes.append((tuple(c), tuple(s)))
-    return boxes
+    c, s = [0.0, 0.0, (z0 + z1) / 2], [0.0, 0.0, z1 - z0]
+    c[axis], s[axis] = (extent[0] + extent[1]) / 2, extent[1] - extent[0]
+    c[1 - axis], s[1 - axis] = centre[1 - axis], across
+    return (c[0], c[1], c[2]), (s[0], s[1], s[2])
 
 
-def blocker(focus: str, centre: Vec, dy: float, rules: CommandRules,
-            model: EnvModel) -> str | None:
-    """The first object a jaw would hit when gripping ``focus`` at ``centre``, if any."""
-    moving = {focus, *model.supported_by(focus)}
-    size = model.bodies[focus].size
-    grow = 2 * rules.jaw_clearance
-    for c, s in jaw_regions(centre, size, dy, rules):
+def jaw_regions(centre: Vec, size: Vec, axis: int, offset: float,
+                rules: CommandRules) -> list[Box]:
+    """The two boxes the open fingers sweep when gripping an object at ``centre``."""
+    inner = size[axis] / 2
+    outer = (size[axis] + rules.margin) / 2 + rules.finger[0]
+    mid = list(centre)
+    mid[1 - axis] += offset
+    grip_z = centre[2] + rules.grip_offset(size)
+    return [column((mid[0], mid[1], mid[2]),
+                   tuple(sorted((centre[axis] + side * inner, centre[axis] + side * outer))),
+                   axis, rules.finger[1], grip_z, rules)
+            for side in (-1, 1)]
+
+
+def hit(boxes: Iterable[Box], model: EnvModel, ignore: set[str],
+        grow: float = 0.0) -> str | None:
+    """The first object (not in ``ignore``) that one of ``boxes``, grown sideways, meets."""
+    for c, s in boxes:
         s = (s[0] + grow, s[1] + grow, s[2])  # keep the gap sideways only
         for name, b in model.bodies.items():
-            if name not in moving and overlap(c, s, b.position, b.size, tol=0.5):
+            if name not in ignore and overlap(c, s, b.position, b.size, tol=0.5):
                 return name
     return None
 
 
-def choose_offset(focus: str, centre: Vec, rules: CommandRules,
-                  model: EnvModel) -> tuple[float, str | None]:
-    """The grip offset nearest the centre with free jaws, or (0, what blocks the centre)."""
+def moving(focus: str, model: EnvModel) -> set[str]:
+    """The object and what rides on it: they move with the jaws, never in their way."""
+    return {focus, *model.supported_by(focus)}
+
+
+def blocker(focus: str, centre: Vec, axis: int, offset: float, rules: CommandRules,
+            model: EnvModel) -> str | None:
+    """The first object a jaw would hit when gripping ``focus`` at ``centre``, if any."""
     size = model.bodies[focus].size
-    reach = max(0.0, (size[1 - rules.jaw_axis] - rules.finger[1]) / 2)
-    first = blocker(focus, centre, 0.0, rules, model)
-    if first is None:
-        return 0.0, None
-    k = 1
+    return hit(jaw_regions(centre, size, axis, offset, rules), model, moving(focus, model),
+               2 * rules.jaw_clearance)
+
+
+def offsets(size: Vec, axis: int, rules: CommandRules) -> list[float]:
+    """Candidate grip offsets across the jaws, nearest the centre first (5 mm apart).
+
+    The fingers grip over the whole of the narrower of the finger and the face: a
+    face wider than the finger lets it slide along the face, a face narrower than
+    the finger (a 12 mm cube, 20 mm deep fingers) lets the finger stick out on one
+    side only, away from a neighbour.
+    """
+    reach = abs(size[1 - axis] - rules.finger[1]) / 2
+    out, k = [0.0], 1
     while k * STEP_MM <= reach + 1e-9:
-        for dy in (k * STEP_MM, -k * STEP_MM):
-            if blocker(focus, centre, dy, rules, model) is None:
-                return dy, None
+        out += [k * STEP_MM, -k * STEP_MM]
         k += 1
-    return 0.0, first
+    return out
+
+
+def describe(size: Vec) -> str:
+    """An object's footprint for messages."""
+    return f"{size[0]:g} × {size[1]:g} mm"

@@ -53,6 +53,7 @@ class Operator:
     sc_plus: tuple[Relation, ...]
     sc_minus: tuple[Relation, ...]
     plot: Any
+    si: tuple[Relation, ...] = ()  # invariant relations (Fig. 14: riders of a carried plank)
 
 
 @dataclass(frozen=True)
@@ -125,7 +126,8 @@ def _operator(name: str, body: Any, fail) -> Operator:
             raise fail("must be a list of relations", f"{w}.{s}")
         rels[s] = tuple(_relation(r, fail, f"{w}.{s}[{i}]") for i, r in enumerate(v))
     _check_plot_shape(body["plot"], fail, f"{w}.plot")
-    return Operator(name, body["class"], slots, rels["sc_plus"], rels["sc_minus"], body["plot"])
+    return Operator(name, body["class"], slots, rels["sc_plus"], rels["sc_minus"], body["plot"],
+                    rels["si"])
 
 
 def _relation(r: Any, fail, where: str) -> Relation:

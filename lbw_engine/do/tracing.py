@@ -27,16 +27,16 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from lbw_engine.do import jaws
-from lbw_engine.do.balance import steadied, unbalanced
-from lbw_engine.do.expander import Command, Context, Expander, fvec
-from lbw_engine.do.plan import Operator, Plan, Relation
+from lbw_engine.do import clearing, fine, grasp, jaws
+from lbw_engine.do.balance import unbalanced
+from lbw_engine.do.expander import Command, Context, Expander
+from lbw_engine.do.fine import Alignment, PlacePlan
+from lbw_engine.do.placement import NOT_OBJECTS, mm, placement
+from lbw_engine.do.plan import Operator, Plan, action_names
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import EnvModel
-from lbw_engine.model.geometry import TABLE, Vec, overlap, top
-from lbw_engine.rules.commands import CommandRules
-
-NOT_OBJECTS = frozenset({TABLE, "hand"})
+from lbw_engine.model.geometry import Vec
+from lbw_engine.rules.commands import CommandRules, OperationRule
 
 
 @dataclass
@@ -52,6 +52,11 @@ class TracedOp:
     arm_goal: Vec | None = None
     commands: list[Command] = field(default_factory=list)
     steadied: float = 0.0  # mm the placement was moved so its load stands (balance.py)
+    wrist: float | None = None  # the jaw direction of the grip (degrees from world x)
+    fine: str | None = None  # the place's fine motion: "slide" | "push" (fine.py)
+    alignment: Alignment | None = None  # faces the place makes coplanar (verification)
+    skipped: str | None = None  # a harmless leaf left out, and why
+    aside: list[tuple[str, int]] = field(default_factory=list)  # set-asides first: why, count
 
 
 @dataclass
@@ -65,6 +70,12 @@ class Trace:
     def commands(self) -> list[Command]:
         """All manipulator commands in order."""
         return [c for op in self.ops for c in op.commands]
+
+    @property
+    def alignments(self) -> list[Alignment]:
+        """The coplanar faces the places make (the demonstration's ALIGNs), last per object."""
+        last = {op.alignment.subject: op.alignment for op in self.ops if op.alignment}
+        return list(last.values())
 
 
 def trace(plan: Plan, rules: CommandRules, model: EnvModel,
@@ -146,7 +157,11 @@ def trace_leaf(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
 
 def _leaf(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
           op: Operator, leaf: str) -> TracedOp:
-    """Find one leaf's goal and expand its steps."""
+    """Find one leaf's goal and grip and expand its steps.
+
+    A leaf of a harmless operator (commands.yaml ``harmless``: a FAKE changes
+    nothing) that cannot be done is left out rather than stopping the task.
+    """
     operation = rules.operation_of(plan.leaf_operations[leaf])
     where = f"operators.{op.name}.plot: {leaf}"
     rule = rules.operations.get(operation)
@@ -154,6 +169,18 @@ def _leaf(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
         raise InputError(f"operation {operation} has no expansion in {rules.file} "
                          f"(known: {', '.join(sorted(rules.operations))})",
                          file=plan.file, where=where)
+    try:
+        return _expand(plan, rules, model, expander, op, leaf, operation, rule, where)
+    except TaskFailed as exc:
+        if op.cls not in rules.harmless:
+            raise
+        return TracedOp(op.name, op.cls, leaf, operation, None, None, skipped=str(exc))
+
+
+def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+            op: Operator, leaf: str, operation: str, rule: OperationRule,
+            where: str) -> TracedOp:
+    """The goal, the grip (jaws.py, grasp.py) and the place's fine motion (fine.py)."""
     focus = focus_object(op, rules, model)
     goal, moved = None, 0.0
     for source in rule.goal:
@@ -162,40 +189,149 @@ def _leaf(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
             break
     if goal is None and rule.goal:
         # The rules name where the goal comes from, but this plan offers none of it
-        # (e.g. a touch made while holding an object): the task cannot be done.
+        # (e.g. a put whose placement was lost): the task cannot be done.
         raise TaskFailed(f"{leaf} in {op.name} ({op.cls}): none of its goal sources "
                          f"({', '.join(rule.goal)}) gives a position in this plan")
-    width = rules.margin
-    grip = goal
-    if focus is not None:
+    ctx = Context(goal, rules.margin, where, model.wrist)
+    steps, place, aside = rule.steps, None, []
+    if focus is not None and goal is not None:
         size = model.bodies[focus].size
-        width += size[rules.jaw_axis]
-        if goal is not None:
-            grip = _grip_point(focus, goal, rule.check_jaws, rules, model)
-    cmds = expander.run(rule.steps, Context(grip, width, where))
-    arm_goal = rules.arm_frame.to_arm(grip) if grip is not None else None
-    return TracedOp(op.name, op.cls, leaf, operation, focus, goal, arm_goal, cmds, moved)
+        if model.holding() != focus and rule.check_jaws:
+            aside = _set_aside(plan, rules, model, expander, focus, where)
+        if model.holding() == focus:
+            axis, off = model.grips.get(focus, (rules.jaw_axes[0], 0.0))
+            if rule.check_jaws:
+                place = _place_plan(op, focus, goal, axis, off, rules, model)
+                goal, steps = place.goal, _fine_steps(rule, place, plan.file, where)
+        else:
+            ahead = _ahead(plan, rules, model, op, leaf, focus)
+            try:
+                axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
+            except grasp.NoCommonGrip as exc:  # put it down on the way, take it the other way
+                aside.append(_regrasp(plan, rules, model, expander, focus, exc, where))
+                goal = model.bodies[focus].position
+                axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
+            model.grips[focus] = (axis, off)
+        ctx.goal = jaws.tool_point(goal, size, axis, off, rules)
+        ctx.width, ctx.wrist = size[axis] + rules.margin, 90.0 * axis
+        if place is not None and place.set_down is not None:
+            ctx.fine["set-down"] = jaws.tool_point(place.set_down, size, axis, off, rules)
+            if place.push_from is not None:
+                ctx.fine.update({"push-from": place.push_from, "push-to": place.push_to})
+                ctx.pushed = (focus, goal)
+    cmds = [c for _, done in aside for c in done] + expander.run(steps, ctx)
+    arm_goal = rules.arm_frame.to_arm(ctx.goal) if ctx.goal is not None else None
+    return TracedOp(op.name, op.cls, leaf, operation, focus, goal, arm_goal, cmds, moved,
+                    wrist=ctx.wrist if focus is not None else None,
+                    fine=place.kind if place is not None and place.set_down else None,
+                    alignment=place.alignment if place is not None else None,
+                    aside=[(note, len(done)) for note, done in aside])
 
 
-def _grip_point(focus: str, goal: Vec, check: bool, rules: CommandRules,
-                model: EnvModel) -> Vec:
-    """Where the arm's tool point goes for an object goal: the grip centre (jaws.py).
+def _set_aside(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+               focus: str, where: str) -> list[tuple[str, list[Command]]]:
+    """Put each block that rests on ``focus`` unplanned on the table first (clearing.py)."""
+    out = []
+    for name in clearing.unplanned_riders(plan, focus, rules, model):
+        sa = clearing.plan_set_aside(plan, name, rules, model)
+        if sa is None:
+            raise TaskFailed(f"'{name}' rests on '{focus}', which the plan picks up, and "
+                             "there is no free spot on the table to set it aside")
+        start = len(expander.emitted)
+        spot = _put_down(sa, rules, model, expander, where)
+        out.append((f"'{name}' rests on '{focus}' where the plan does not put it: set aside "
+                    f"at {mm(spot)}", expander.emitted[start:]))
+    return out
 
-    Before a grasp the grip offset is chosen; while the object is held it is kept.
+
+def _regrasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+             focus: str, exc: grasp.NoCommonGrip, where: str) -> tuple[str, list[Command]]:
+    """Put ``focus`` down where it can be taken the way its place needs (clearing.py)."""
+    sa = clearing.plan_regrasp(plan, focus, exc.picks, exc.places, rules, model)
+    if sa is None:
+        raise TaskFailed(f"{exc} (and no free spot on the table to take it again the other way)")
+    start = len(expander.emitted)
+    spot = _put_down(sa, rules, model, expander, where)
+    return (f"no one way of closing the jaws serves both where '{focus}' is and where it "
+            f"goes: put down at {mm(spot)} to be taken again", expander.emitted[start:])
+
+
+def _put_down(sa: clearing.SetAside, rules: CommandRules, model: EnvModel,
+              expander: Expander, where: str) -> Vec:
+    """Pick a block up and put it on its table spot (commands.yaml set-aside)."""
+    size = model.bodies[sa.name].size
+    spot = (sa.spot[0], sa.spot[1], sa.spot[2] + rules.release_clearance)
+    ctx = Context(jaws.tool_point(sa.start, size, sa.axis, sa.offset, rules),
+                  size[sa.axis] + rules.margin, where, 90.0 * sa.axis,
+                  {"set-down": jaws.tool_point(spot, size, sa.axis, sa.offset, rules)})
+    model.grips[sa.name] = (sa.axis, sa.offset)
+    expander.run(rules.set_aside, ctx)
+    model.apply((), [clearing.support_on_table(sa.name, rules)])
+    return spot
+
+
+def _place_plan(op: Operator, focus: str, goal: Vec, axis: int, off: float,
+                rules: CommandRules, model: EnvModel) -> PlacePlan:
+    """How the held ``focus`` is put at ``goal`` (fine.py), or TaskFailed naming why not."""
+    found = fine.aligned(op, focus, goal, rules, model)
+    plan, why = fine.plan_place(focus, goal, axis, off, rules, model,
+                                found[1] if found else None)
+    if plan is None:
+        raise TaskFailed(f"cannot put '{focus}' down at {mm(goal)} with the jaws along "
+                         f"{jaws.AXIS_NAMES[axis]}: {why}")
+    return plan
+
+
+def _fine_steps(rule: OperationRule, place: PlacePlan, file: str, where: str) -> tuple:
+    """The steps of the rule for the place's kind (commands.yaml ``slide`` / ``push``)."""
+    if place.set_down is None:
+        return rule.steps
+    if place.kind not in rule.fine:
+        raise InputError(f"the place needs a fine motion ({place.kind}), for which operation "
+                         f"{rule.name} gives no steps", file=file, where=where)
+    return rule.fine[place.kind]
+
+
+def _ahead(plan: Plan, rules: CommandRules, model: EnvModel, op: Operator, leaf: str,
+           focus: str) -> grasp.PlaceAhead:
+    """How the next place of ``focus`` after ``leaf`` would be made, per grip (grasp.py).
+
+    Between a pick and its place nothing else moves (the hand holds one object),
+    so the place is planned against the model as it is now.
     """
-    if model.holding() == focus:
-        dy = model.grip_offsets.get(focus, 0.0)
-        hit = jaws.blocker(focus, goal, dy, rules, model)
-    else:
-        dy, hit = jaws.choose_offset(focus, goal, rules, model)
-        model.grip_offsets[focus] = dy
-    if hit is not None and check:
-        raise TaskFailed(f"the gripper cannot hold '{focus}' at {_mm(goal)}: a jaw would hit "
-                         f"'{hit}' at {_mm(model.bodies[hit].position)}")
-    shift = [0.0, 0.0]
-    shift[1 - rules.jaw_axis] = dy
-    return (goal[0] + shift[0], goal[1] + shift[1], goal[2] + rules.grip_offset(
-        model.bodies[focus].size))
+    nxt = _next_place(plan, rules, op.name, leaf, focus)
+
+    def place(axis: int, off: float) -> tuple[PlacePlan | None, str] | None:
+        if nxt is None:
+            return None
+        try:
+            goal = _goal("placement", nxt, focus, rules, model, plan.file, "")[0]
+            return _place_plan(nxt, focus, goal, axis, off, rules, model), ""
+        except TaskFailed as exc:
+            return None, str(exc)
+    return place
+
+
+def _next_place(plan: Plan, rules: CommandRules, op_name: str, leaf: str,
+                focus: str) -> Operator | None:
+    """The first operator after ``leaf`` (plot order) with a place leaf that puts ``focus``."""
+    order = _leaves(plan, plan.root)
+    later = order[order.index((op_name, leaf)) + 1:] if (op_name, leaf) in order else []
+    for name, other in later:
+        rule = rules.operations.get(rules.operation_of(plan.leaf_operations[other]))
+        op = plan.operators[name]
+        if rule is not None and rule.check_jaws and "placement" in rule.goal and any(
+                r.subject == focus and r.type in rules.support_relations for r in op.sc_plus):
+            return op
+    return None
+
+
+def _leaves(plan: Plan, name: str) -> list[tuple[str, str]]:
+    """(operator, leaf) pairs in depth-first plot order."""
+    out: list[tuple[str, str]] = []
+    for item in action_names(plan.operators[name].plot):
+        out += _leaves(plan, item) if item in plan.operators else [(name, item)]
+    return out
 
 
 def focus_object(op: Operator, rules: CommandRules, model: EnvModel) -> str | None:
@@ -223,85 +359,8 @@ def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
                 if r.subject == focus and r.type in rules.support_relations), None)
     if rel is None:
         return None, 0.0
-    return _placement(rel, focus, rules, model, file, where)
-
-
-def placement_goal(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
-                   file: str = "<plan>", where: str = "") -> Vec:
-    """Where ``focus`` goes for a taught support relation, in the current model."""
-    return _placement(rel, focus, rules, model, file, where)[0]
-
-
-def _placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
-               file: str, where: str) -> tuple[Vec, float]:
-    """placement_goal, and how far the taught spot was moved so the load stands."""
-    for s in [*rel.objects, *([rel.wrt] if rel.wrt else [])]:
-        if s not in NOT_OBJECTS and s not in model.bodies:
-            raise InputError(f"the relation names '{s}', which is not a plan object",
-                             file=file, where=where)
-    supports = [s for s in rel.objects if s != TABLE]
-    if rel.at is not None and rel.wrt not in (None, TABLE):
-        ref = model.bodies[rel.wrt].position  # relative to the support's current place
-        xy = (ref[0] + rel.at[0], ref[1] + rel.at[1])
-    elif rel.at is not None:
-        xy = (rel.at[0], rel.at[1])  # world frame (on the table, or no :wrt)
-    elif supports:
-        ps = [model.bodies[s].position for s in supports]  # centre of the supports
-        xy = (sum(p[0] for p in ps) / len(ps), sum(p[1] for p in ps) / len(ps))
-    else:
-        raise InputError(f"the placement of '{focus}' on the table has no :at position",
-                         file=file, where=where)
-    # A spot where the object and its riders would tip off their supports cannot be
-    # what the demonstration showed (that structure stood): its offset was measured
-    # wrong. Put the load where it stands, as near the taught spot as that allows.
-    xy, moved = steadied(model, focus, xy, supports, rules.balance_margin, rules.steady_margin)
-    size = model.bodies[focus].size
-    rest = model.settled(supports)  # supports rest on theirs, not at their release height
-    base = max((top(rest[s], model.bodies[s].size) for s in supports), default=0.0)
-    goal = (xy[0], xy[1], base + size[2] / 2 + rules.release_clearance)
-    _check_free(goal, focus, model)
+    goal, moved = placement(rel, focus, rules, model, file, where)
+    found = fine.aligned(op, focus, goal, rules, model)
+    if found is not None:  # the demonstrated ALIGN: flush with its partner (fine.py)
+        goal = found[0]
     return goal, moved
-
-
-def _check_free(goal: Vec, focus: str, model: EnvModel) -> None:
-    """A goal spot taken by another object makes the task impossible (exit 1)."""
-    moving = {focus, *model.supported_by(focus)}
-    size = model.bodies[focus].size
-    for name, b in model.bodies.items():
-        if name in moving:
-            continue
-        if overlap(goal, size, b.position, b.size, tol=1.5):
-            kind = "" if b.relevant else ", an object the plan does not use,"
-            raise TaskFailed(
-                f"cannot place '{focus}' at {_mm(goal)}: the spot is occupied by "
-                f"'{name}'{kind} at {_mm(b.position)}"
-            )
-
-
-def _mm(v: Vec) -> str:
-    """A position for messages."""
-    return "(" + ", ".join(f"{c:.0f}" for c in v) + ") mm"
-
-
-def format_commands(tr: Trace, title: str = "") -> str:
-    """commands.txt in the manner of Fig. 24: operator, goal, operation, commands."""
-    n = len(tr.commands)
-    lines = [f";;; {title} — {n} manipulator commands (positions in arm coordinates, mm)"
-             if title else f";;; {n} manipulator commands (positions in arm coordinates, mm)"]
-    last_op = last_goal = None
-    for op in tr.ops:
-        if not op.commands:
-            continue
-        if op.operator != last_op:
-            lines.append(f"<<{op.operator_class.capitalize()}>> {op.operator}")
-            last_op, last_goal = op.operator, None
-        if op.goal is not None and op.goal != last_goal:
-            lines.append(f" GOAL-POSITION {fvec(op.goal)}")
-            lines.append(f" ARM GOAL POSITION {fvec(op.arm_goal)}")
-            if op.steadied:
-                lines.append(f" ; moved {op.steadied:.1f} mm from the taught spot so that "
-                             f"'{op.focus}' and its load stand on the supports")
-            last_goal = op.goal
-        lines.append(f" <{op.operation.lower()}>")
-        lines.extend(f" {c.text()}" for c in op.commands)
-    return "\n".join(lines) + "\n"

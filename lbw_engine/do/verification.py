@@ -4,14 +4,17 @@ The executed structure is equivalent to the taught one (Sec. VIII, Fig. 18)
 when, among the plan's objects, the same support relations hold (which rests
 on what), every object is within a tolerance of its expected position — the
 taught world positions, since the placements ground out on the table — and
-nothing has toppled. Pure logic: the caller measures the final state.
+nothing has toppled; and the faces the demonstration aligned (ALIGN, Sec.
+V-B5) are coplanar within the fine motion's ``coplanar-tolerance``. Pure
+logic: the caller measures the final state.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
+from lbw_engine.do.fine import Alignment, coplanar_errors
 from lbw_engine.model.geometry import Vec, support_relations, tilted
 
 POSITION_TOLERANCE_MM = 5.0
@@ -49,6 +52,8 @@ def verify(
     support_types: tuple[str, ...],
     tolerance: float = POSITION_TOLERANCE_MM,
     topple_rad: float = TOPPLE_RAD,
+    alignments: Sequence[Alignment] = (),
+    coplanar_tolerance: float = 2.0,
 ) -> Verdict:
     """Compare the measured final state of the plan's objects with the expected one.
 
@@ -89,7 +94,31 @@ def verify(
                 "position", name, [round(c, 1) for c in exp], positions[name],
                 f"'{name}' is {err:.1f} mm from its goal (tolerance {tolerance:.0f} mm)",
             ))
+    mismatches += _alignments(alignments, measured, coplanar_tolerance)
     return Verdict(not mismatches, relations, positions, mismatches)
+
+
+def _alignments(alignments: Sequence[Alignment], measured: Mapping[str, ObjectState],
+                tolerance: float) -> list[dict]:
+    """A mismatch for each aligned pair whose faces are not coplanar."""
+    out = []
+    for a in alignments:
+        if a.subject not in measured or a.partner not in measured:
+            continue  # reported as missing
+        pos = {n: measured[n].position for n in (a.subject, a.partner)}
+        size = {n: measured[n].size for n in (a.subject, a.partner)}
+        # The distance across the contact is held by the position check; the faces
+        # must be flush more closely than positions are checked.
+        face, gap = coplanar_errors(a, pos, size)
+        if face > tolerance:
+            out.append(_mm(
+                "aligned", a.subject,
+                {"with": a.partner, "face": a.face, "face_mm": 0.0, "gap_mm": round(a.gap, 1)},
+                {"with": a.partner, "face": a.face, "face_mm": round(face, 1),
+                 "gap_mm": round(gap, 1)},
+                f"the {a.face} faces of '{a.subject}' and '{a.partner}' should be coplanar: "
+                f"they are {face:.1f} mm apart (tolerance {tolerance:g} mm)"))
+    return out
 
 
 def _mm(kind: str, name: str, expected: object, measured: object, message: str) -> dict:

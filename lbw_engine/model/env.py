@@ -120,7 +120,12 @@ class EnvModel:
     nodes: dict[str, EnvNode] = field(default_factory=dict)
     relations: list[Relation] = field(default_factory=list)
     followers: dict[str, Vec3] = field(default_factory=dict)  # name -> offset from the hand
-    grip_offsets: dict[str, float] = field(default_factory=dict)  # execution: see do/jaws.py
+    # Execution (do/jaws.py): how each object is gripped — the jaw axis (0: x, 1: y)
+    # and the grip point's offset along the object across the jaws — and the wrist's
+    # turn now (degrees from world x, design.md "Robot").
+    grips: dict[str, tuple[int, float]] = field(default_factory=dict)
+    wrist: float = 0.0
+    placed: set[str] = field(default_factory=set)  # objects the traced plan has put down
 
     def __post_init__(self) -> None:
         region = tuple(float(v) for v in self.rules.constants["attention-region"])
@@ -271,7 +276,8 @@ class EnvModel:
     def __deepcopy__(self, memo: dict) -> EnvModel:
         """A copy to try things on (the rules are shared, not copied)."""
         env = EnvModel(self.rules, {n: replace(v) for n, v in self.nodes.items()},
-                       list(self.relations), dict(self.followers), dict(self.grip_offsets))
+                       list(self.relations), dict(self.followers), dict(self.grips), self.wrist,
+                       set(self.placed))
         memo[id(self)] = env
         return env
 
@@ -308,6 +314,11 @@ class EnvModel:
             self.hold(best)
         return best
 
+    def shove(self, name: str, delta: Vec3) -> None:
+        """``name`` and what rests on it are pushed by ``delta`` (the fine motion's push)."""
+        for moving in (name, *self.supported_by(name)):
+            self.nodes[moving].position = _add(self.nodes[moving].position, delta)
+
     def hold(self, name: str) -> None:
         """The hand holds ``name``; it and what rests on it follow the hand."""
         self.relations.append(Relation(self.rules.hold_relation, HAND, name))
@@ -329,6 +340,7 @@ class EnvModel:
             if r.type in self.rules.support_relations:
                 self.relations = [x for x in self.relations if not (
                     x.subject == r.subject and x.type in self.rules.support_relations)]
+                self.placed.add(r.subject)
             obj = tuple(sorted(r.objects)) if len(r.objects) > 1 else r.objects[0]
             self.relations.append(Relation(r.type, r.subject, obj))
 

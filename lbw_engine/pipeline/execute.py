@@ -17,10 +17,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from lbw_engine.do.listing import format_commands
 from lbw_engine.do.matching import Measured, match_initial_state, plan_objects, taught_shapes
 from lbw_engine.do.monitor import pair_by_shape
 from lbw_engine.do.plan import Plan
-from lbw_engine.do.tracing import Trace, format_commands, trace
+from lbw_engine.do.tracing import Trace, trace
 from lbw_engine.do.verification import TOPPLE_RAD, ObjectState, verify
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import Body, EnvModel
@@ -103,7 +104,7 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     eyes = Eyes(world, renderer, sc.shapes, shape_of)
     injector = FaultInjector(world, sc.faults, {n: n for n in world.names})
     robot = Robot(world, rules.arm_frame, rules.home, on_step=_steps(injector, on_step),
-                  finger=rules.finger)
+                  finger=rules.finger, max_opening=rules.max_opening)
     report["via"] = via
     mon = Monitored()
     report["monitor"] = {"detections": mon.detections, "repairs": mon.repairs,
@@ -129,9 +130,10 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     step_aside(robot, rules)  # the cameras must see the structure, not the gripper
     robot.settle(SETTLE_S)
     views["execution-final"] = eyes.last_images = renderer.render(world.scene())
-    verdict, seen = camera_verdict(eyes, expected, expected_sup, rules.support_relations)
+    fine = {"alignments": tr.alignments, "coplanar_tolerance": rules.fine.coplanar_tolerance}
+    verdict, seen = camera_verdict(eyes, expected, expected_sup, rules.support_relations, fine)
     truth = verify(expected, expected_sup, _final_state(world, sc, expected, shape_of),
-                   rules.support_relations)
+                   rules.support_relations, **fine)
     report.update(verdict.to_json())
     report.update(
         stage="verification",
@@ -139,7 +141,9 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         commands=len(tr.commands),
         expected={"relations": [[t, n, list(o) if len(o) > 1 else o[0]]
                                 for n, (t, o) in sorted(expected_sup.items())],
-                  "positions": {n: _r(p) for n, p in sorted(expected.items())}},
+                  "positions": {n: _r(p) for n, p in sorted(expected.items())},
+                  "aligned": [{"object": a.subject, "with": a.partner, "face": a.face}
+                              for a in tr.alignments]},
         final_state_source="object-finder",
         inferred_hidden=seen.inferred,
         ground_truth_mismatches=truth.mismatches,

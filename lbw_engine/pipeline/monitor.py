@@ -190,10 +190,12 @@ def step_aside(robot: Any, rules: Any) -> None:
 
 
 def camera_verdict(eyes: Eyes, expected: Mapping[str, Any], supports: Mapping[str, tuple],
-                   support_types: tuple[str, ...]) -> tuple[Verdict, Look]:
-    """The final structure through the cameras against the plan's expected final state."""
+                   support_types: tuple[str, ...], fine: Mapping[str, Any] | None = None
+                   ) -> tuple[Verdict, Look]:
+    """The final structure through the cameras against the plan's expected final state
+    (``fine``: verify's alignments and coplanar tolerance)."""
     seen = eyes.look(expected)
-    return verify(expected, supports, seen.states, support_types), seen
+    return verify(expected, supports, seen.states, support_types, **(fine or {})), seen
 
 
 def _rect(cam: Any, center: Any, size: Any) -> tuple[int, int, int, int]:

@@ -65,7 +65,7 @@ def load_rules(directory: str | Path | None = None) -> RuleSet:
     rules.analysis = analysis.parse(directory)
     path = directory / "commands.yaml"
     rules.commands = commands.parse(load_file(path), str(path), rules.roles.support,
-                                    rules.labels())
+                                    rules.labels(), tuple(rules.relations))
     check.check_named_operations(rules)
     rules.domain = domain.parse(rules)
     return rules

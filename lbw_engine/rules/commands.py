@@ -1,10 +1,12 @@
 """rules/commands.yaml: Table IX command expansion, loaded and checked at load time.
 
 The file holds the world→arm transform, the height of moves, the gripper
-margin, which recognized operation expands to which steps, and the Table IX
-macros. Everything is validated here — unknown keys, unknown macro or
-primitive names, wrong argument counts, unknown expression names, recursion —
-with errors naming the file and line, so a bad file stops before anything runs.
+(the ways its jaws can close, their widest opening, margins), the fine motion
+(how a place into side contact is made, Sec. V-B5 / IX-C1), which recognized
+operation expands to which steps, and the Table IX macros. Everything is
+validated here — unknown keys, unknown macro or primitive names, wrong
+argument counts, unknown expression names, recursion — with errors naming the
+file and line, so a bad file stops before anything runs.
 The support relations and the leaf labels are not written here: the loader
 takes them from effects.yaml (roles) and operations.yaml (labels).
 """
@@ -17,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from lbw_engine.errors import InputError
+from lbw_engine.rules.analysis import PLAN_CLASSES
 from lbw_engine.rules.reader import Reader
 from lbw_engine.yamlio import line_of
 
@@ -26,7 +29,7 @@ class Primitive:
     """A manipulator command: its argument kinds and its effect on the model."""
 
     args: tuple[str, ...]
-    effect: str  # "move" | "release" | "grasp"
+    effect: str  # "move" | "release" | "grasp" | "turn" | "push"
 
 
 # The manipulator's primitive commands (Sec. VII-B), a closed registry.
@@ -34,6 +37,11 @@ PRIMITIVES: dict[str, Primitive] = {
     "amove": Primitive(("position",), "move"),
     "open-hand": Primitive(("width",), "release"),
     "close-hand": Primitive((), "grasp"),
+    # The wrist turns about the vertical axis: the jaws then close along the
+    # direction ANGLE degrees from world x (0: along x, 90: along y), design.md "Robot".
+    "turn-wrist": Primitive(("angle",), "turn"),
+    # An amove whose closed jaws push the block ahead of them (the fine motion).
+    "push": Primitive(("position",), "push"),
 }
 # Names every expression may use besides macro parameters, with their kind.
 GLOBALS: dict[str, str] = {
@@ -41,13 +49,21 @@ GLOBALS: dict[str, str] = {
     "hand-pos": "position",
     "approach-height": "height",
     "open-width": "width",
+    "wrist": "angle",  # the jaw direction this operation's grip needs
+    "set-down": "position",  # fine motion: where the block is set down, clear of the contact
+    "push-from": "position",  # fine motion: where the closed jaws come down to push it
+    "push-to": "position",  # ... and where they stop, the block then at its goal
 }
 GOAL_SOURCES = ("object", "placement")
 JAW_AXES = {"x": 0, "y": 1}
+FINE_MOTIONS = ("slide", "push")  # the expansions an operation may give for a fine motion
 
 _REQUIRED = ("arm-frame", "approach-height", "home", "gripper", "focus", "operations", "macros")
-_OPTIONAL = ("skip-null-moves", "release-clearance", "balance-margin", "steady-margin")
-_GRIPPER = ("jaw-axis", "margin", "tip", "finger", "clearance", "tip-clearance", "max-below-top")
+_OPTIONAL = ("skip-null-moves", "release-clearance", "balance-margin", "steady-margin",
+             "fine-motion", "harmless", "set-aside")
+_GRIPPER = ("jaw-axes", "max-opening", "margin", "tip", "finger", "clearance", "tip-clearance",
+            "max-below-top")
+_FINE = ("relations", "clearance", "contact-gap", "snap-gap", "coplanar-tolerance")
 
 Expr = str | tuple[str, str]  # a name, or (xy-name, z-name) for {xy: P, z: Q}
 
@@ -80,6 +96,7 @@ class OperationRule:
     steps: tuple[Step, ...]
     line: int | None = None
     check_jaws: bool = False  # fail when no grip point leaves the gripper's jaws clear
+    fine: dict[str, tuple[Step, ...]] = field(default_factory=dict)  # slide / push steps
 
 
 @dataclass(frozen=True)
@@ -101,6 +118,17 @@ class ArmFrame:
 
 
 @dataclass(frozen=True)
+class ContactRules:
+    """How a place into side contact is made (commands.yaml ``fine-motion``)."""
+
+    relations: tuple[str, ...] = ()  # SC+ relations that call for the demonstrated fine motion
+    clearance: float = 10.0  # mm between the set-down spot and the contact
+    contact_gap: float = 0.5  # mm left between the faces in contact
+    snap_gap: float = 3.0  # mm: a block nearer than this beside a goal is met by the slide
+    coplanar_tolerance: float = 2.0  # mm: faces this close count as coplanar (verification)
+
+
+@dataclass(frozen=True)
 class CommandRules:
     """The validated content of rules/commands.yaml."""
 
@@ -108,7 +136,8 @@ class CommandRules:
     approach_height: float
     home: tuple[float, float, float]
     skip_null_moves: bool
-    jaw_axis: int
+    jaw_axes: tuple[int, ...]  # the ways the jaws may close, in order of preference
+    max_opening: float
     margin: float
     tip: float
     finger: tuple[float, float, float]
@@ -125,6 +154,9 @@ class CommandRules:
     labels: dict[str, str] = field(default_factory=dict)  # LABEL (upper case) -> operation
     balance_margin: float = 0.0  # see balance.py
     steady_margin: float = 0.0  # see balance.steadied
+    fine: ContactRules = field(default_factory=lambda: ContactRules())
+    harmless: tuple[str, ...] = ()  # plan classes whose leaves never stop execution
+    set_aside: tuple[Step, ...] = ()  # puts an unplanned rider on the table (do/clearing.py)
 
     def operation_of(self, word: str) -> str:
         """The operation a plan leaf's label names (operations.yaml labels; else its name)."""
@@ -136,23 +168,33 @@ class CommandRules:
         return max(h / 2 - min(h / 2, self.max_below_top), self.tip + self.tip_clearance - h / 2)
 
 
-def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str]) -> CommandRules:
+def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str],
+          relations: tuple[str, ...] = ()) -> CommandRules:
     """Validate a parsed commands.yaml document and build CommandRules.
 
     ``support`` is the (single, multiple) support relations of effects.yaml;
-    ``labels`` maps a leaf label to its operation (operations.yaml).
+    ``labels`` maps a leaf label to its operation (operations.yaml);
+    ``relations`` are the relations effects.yaml defines (for ``fine-motion``).
     """
     rd = Reader(file)
     rd.keys(rd.mapping(doc, "the file"), "the file", _REQUIRED, _OPTIONAL)
     frame = _arm_frame(rd, doc["arm-frame"])
     grip = rd.mapping(doc["gripper"], "gripper", doc, "gripper")
     rd.keys(grip, "gripper", _GRIPPER, where="gripper")
-    jaw = rd.one_of(grip["jaw-axis"], JAW_AXES, "jaw axis", grip, "jaw-axis")
+    jaws = rd.names(grip, "jaw-axes", "gripper.jaw-axes", JAW_AXES, "gripper.jaw-axes")
+    if not jaws or len(set(jaws)) != len(jaws):
+        rd.fail("must list each way the jaws close once (x, y)", grip, "jaw-axes",
+                "gripper.jaw-axes")
     focus = rd.mapping(doc["focus"], "focus", doc, "focus")
     rd.keys(focus, "focus", ("relations", "slots"), where="focus")
     macros = _macros(rd, doc["macros"])
     operations = _operations(rd, doc["operations"])
-    _check_calls(rd, macros, operations)
+    set_aside = ()
+    if "set-aside" in doc:
+        raw = rd.mapping(doc["set-aside"], "set-aside", doc, "set-aside")
+        rd.keys(raw, "set-aside", ("steps",), where="set-aside")
+        set_aside = _steps(rd, raw, "steps", "set-aside.steps")
+    _check_calls(rd, macros, operations, set_aside)
 
     def mm(container: dict, key: str, where: str, low: float = 0.0) -> float:
         return rd.number(container, key, where, low, 1000.0, where)
@@ -165,7 +207,8 @@ def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str])
         approach_height=mm(doc, "approach-height", "approach-height"),
         home=rd.vector(doc, "home", 3, "home", -1000.0, 1000.0, "home"),
         skip_null_moves=rd.boolean(doc, "skip-null-moves", "skip-null-moves", True),
-        jaw_axis=JAW_AXES[jaw],
+        jaw_axes=tuple(JAW_AXES[j] for j in jaws),
+        max_opening=mm(grip, "max-opening", "gripper.max-opening", 1.0),
         margin=mm(grip, "margin", "gripper.margin"),
         tip=mm(grip, "tip", "gripper.tip"),
         finger=rd.vector(grip, "finger", 3, "gripper.finger", 1.0, 200.0, "gripper.finger"),
@@ -183,6 +226,31 @@ def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str])
         labels={label.upper(): op for label, op in labels.items()},
         balance_margin=optional("balance-margin"),
         steady_margin=optional("steady-margin"),
+        fine=_fine(rd, doc, relations),
+        harmless=rd.names(doc, "harmless", "harmless", PLAN_CLASSES, "harmless")
+        if "harmless" in doc else (),
+        set_aside=set_aside,
+    )
+
+
+def _fine(rd: Reader, doc: Any, relations: tuple[str, ...]) -> ContactRules:
+    """The fine-motion section (defaults when absent)."""
+    if "fine-motion" not in doc:
+        return ContactRules()
+    raw = rd.mapping(doc["fine-motion"], "fine-motion", doc, "fine-motion")
+    rd.keys(raw, "fine-motion", _FINE, where="fine-motion")
+    known = relations or None
+    rels = rd.names(raw, "relations", "fine-motion.relations", known, "fine-motion.relations")
+    return ContactRules(
+        relations=rels,
+        clearance=rd.number(raw, "clearance", "fine-motion.clearance", 1.0, 100.0,
+                            "fine-motion.clearance"),
+        contact_gap=rd.number(raw, "contact-gap", "fine-motion.contact-gap", 0.0, 5.0,
+                              "fine-motion.contact-gap"),
+        snap_gap=rd.number(raw, "snap-gap", "fine-motion.snap-gap", 0.0, 20.0,
+                           "fine-motion.snap-gap"),
+        coplanar_tolerance=rd.number(raw, "coplanar-tolerance", "fine-motion.coplanar-tolerance",
+                                     0.0, 20.0, "fine-motion.coplanar-tolerance"),
     )
 
 
@@ -254,15 +322,18 @@ def _operations(rd: Reader, raw: Any) -> dict[str, OperationRule]:
     out = {}
     for name, body in raw.items():
         w = f"operations.{name}"
-        rd.keys(rd.mapping(body, w, raw, name), w, ("goal", "steps"), ("check-jaws",), where=w)
+        rd.keys(rd.mapping(body, w, raw, name), w, ("goal", "steps"),
+                ("check-jaws", *FINE_MOTIONS), where=w)
         goal = rd.names(body, "goal", f"{w}.goal", GOAL_SOURCES, f"{w}.goal")
         check = rd.boolean(body, "check-jaws", f"{w}.check-jaws", False)
+        fine = {k: _steps(rd, body, k, f"{w}.{k}") for k in FINE_MOTIONS if k in body}
         out[name] = OperationRule(name, goal, _steps(rd, body, "steps", f"{w}.steps"),
-                                  line_of(raw, name), check)
+                                  line_of(raw, name), check, fine)
     return out
 
 
-def _check_calls(rd: Reader, macros: dict[str, Macro], ops: dict[str, OperationRule]) -> None:
+def _check_calls(rd: Reader, macros: dict[str, Macro], ops: dict[str, OperationRule],
+                 set_aside: tuple[Step, ...] = ()) -> None:
     """Every step names a known macro or primitive with the right arity and known names."""
     def check(steps: tuple[Step, ...], scope: set[str], where: str) -> None:
         for s in steps:
@@ -285,6 +356,9 @@ def _check_calls(rd: Reader, macros: dict[str, Macro], ops: dict[str, OperationR
         check(m.steps, set(m.params), f"macros.{m.name}")
     for o in ops.values():
         check(o.steps, set(), f"operations.{o.name}")
+        for kind, steps in o.fine.items():
+            check(steps, set(), f"operations.{o.name}.{kind}")
+    check(set_aside, set(), "set-aside")
     _no_recursion(rd, macros)
 
 

@@ -1,12 +1,23 @@
 """A two-finger gripper driven by position targets: the human hand, later the robot's jaw.
 
 The gripper lives in the world's x-z pymunk plane as kinematic bodies: a grip
-frame (no shape) and two fingers (boxes) that open and close along x. Its y is
-kinematic (the world keeps it outside pymunk). When closing, the fingers stop
-as soon as both touch the same block; the block is then attached to the grip
-frame by a PivotJoint + GearJoint with a finite maximum force, so a heavy or
-badly grasped block can slip. Blocks resting on the held block ride along by
-friction only (design.md; the plank of Fig. 14).
+frame (no shape) and two fingers (boxes). Its y is kinematic (the world keeps
+it outside pymunk). The wrist turns about the vertical axis (design.md
+"Robot"), so the jaws close along x or along y:
+
+* along x the fingers are boxes beside the object in x-z, as a 2-D engine
+  draws them, and they push a block they meet physically;
+* along y both fingers stand at the grip's x-z, each with its own y-range:
+  the world's y-extent contact filter then makes a finger touch exactly the
+  blocks whose y-range it overlaps, so an open finger passes beside a block
+  and lands on one behind it. A finger that reaches a block's face while
+  closing pushes it along y (kinematically, as pymunk has no y).
+
+When closing, the fingers stop as soon as both touch the same block; the
+block is then attached to the grip frame by a PivotJoint + GearJoint with a
+finite maximum force, whichever way the jaws close, so a heavy or badly
+grasped block can slip: the grasp is never a weld. Blocks resting on the held
+block ride along by friction only (design.md; the plank of Fig. 14).
 
 Coordinates: ``position`` is the grip centre, midway between the fingers'
 inner faces, ``TIP`` mm above the fingertips; the palm sits above the fingers.
@@ -39,7 +50,7 @@ class GripperGeometry:
 
     finger: tuple[float, float, float] = (10.0, 20.0, 50.0)  # x thickness, y depth, z length
     palm: tuple[float, float, float] = (50.0, 50.0, 30.0)
-    max_opening: float = 220.0  # inner gap; shapes are at most 200 mm wide
+    max_opening: float = 220.0  # inner gap; the robot's is commands.yaml gripper.max-opening
     close_speed: float = 100.0  # mm/s, finger gap change rate
     grip_strength: float = 25.0  # joint max force, in multiples of the carried weight
 
@@ -64,24 +75,27 @@ class Gripper:
     """Kinematic two-finger gripper; call ``move_to``/``open``/``close``, the world steps it."""
 
     def __init__(self, position: Vec3, opening: float = 60.0, kind: str = "hand",
-                 geometry: GripperGeometry | None = None, max_speed: float = math.inf) -> None:
-        """Create the gripper at ``position`` (add it to a World with ``World.add_gripper``)."""
+                 geometry: GripperGeometry | None = None, max_speed: float = math.inf,
+                 y_contacts: bool = False) -> None:
+        """Create the gripper at ``position`` (add it to a World with ``World.add_gripper``).
+
+        ``y_contacts``: its moves along y push what its fingers or held block run
+        into (the robot); a scripted hand (the demonstrator) plans clear of blocks
+        along y and skips the check, so demonstrations stay as they were.
+        """
         self.geometry = g = geometry or GripperGeometry()
         self.kind = kind
         self.max_speed = max_speed  # mm/s; inf = reach each target within one world step
+        self.y_contacts = y_contacts
         self.present = True  # an absent gripper is left out of the scene (not in view)
         self.body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
         self.body.position = (position[0], position[2])
         self.y = float(position[1])
         self.target: Vec3 = tuple(map(float, position))
         self.opening = self.target_opening = min(opening, g.max_opening)
-        self.fingers = []
-        for side in (-1, 1):
-            body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-            shape = pymunk.Poly.create_box(body, (g.finger[0], g.finger[2]))
-            shape.friction = 0.8
-            shape.side = side
-            self.fingers.append((side, body, shape))
+        self.axis = 0  # the jaws close along world x (0) or y (1): the wrist's turn
+        self.world = None
+        self.fingers = self._make_fingers()
         self._place_fingers(0.0)
         self.holding: str | None = None
         self.riders: dict[str, float] = {}  # name -> y offset from the grip
@@ -89,7 +103,36 @@ class Gripper:
         self._hold_dy = 0.0
         self._closing = False
 
+    def _make_fingers(self) -> list[tuple[int, pymunk.Body, pymunk.Shape]]:
+        """The two finger bodies; their x-z box depends on the way the jaws close."""
+        g = self.geometry
+        width = g.finger[0] if self.axis == 0 else g.finger[1]  # extent along x
+        fingers = []
+        for side in (-1, 1):
+            body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+            shape = pymunk.Poly.create_box(body, (width, g.finger[2]))
+            shape.friction = 0.8
+            shape.side = side
+            fingers.append((side, body, shape))
+        return fingers
+
     # -- commands -------------------------------------------------------------
+    def turn(self, axis: int) -> None:
+        """Turn the wrist so that the jaws close along world x (0) or y (1).
+
+        The held block would turn with the wrist, and boxes stay axis-aligned
+        (design.md), so the wrist turns only with empty jaws.
+        """
+        if axis == self.axis:
+            return
+        if self.holding is not None:
+            raise ValueError("the wrist turns only with empty jaws")
+        old, self.axis = self.fingers, axis
+        self.fingers = self._make_fingers()
+        if self.world is not None:
+            self.world.replace_fingers(self, old)
+        self._place_fingers(0.0)
+
     def move_to(self, xyz: Vec3) -> None:
         """Set the grip centre's target position (mm, world frame)."""
         self.target = (float(xyz[0]), float(xyz[1]), float(xyz[2]))
@@ -126,10 +169,20 @@ class Gripper:
         x, y, z = self.position
         fz = z - TIP + g.finger[2] / 2
         out = [Box(self.kind, (x, y, z - TIP + g.finger[2] + g.palm[2] / 2), g.palm, 0.0, "palm")]
+        size = g.finger if self.axis == 0 else (g.finger[1], g.finger[0], g.finger[2])
         for side, body, _ in self.fingers:
-            out.append(Box(self.kind, (body.position[0], y, fz), g.finger, 0.0,
+            fy = y if self.axis == 0 else sum(self.finger_y_range(side)) / 2
+            out.append(Box(self.kind, (body.position[0], fy, fz), size, 0.0,
                            "finger-" + ("left" if side < 0 else "right")))
         return out
+
+    def finger_y_range(self, side: int) -> tuple[float, float]:
+        """The y-extent of one finger (mm): the whole depth for x-jaws, its own for y-jaws."""
+        g = self.geometry
+        if self.axis == 0:
+            return self.y - g.finger[1] / 2, self.y + g.finger[1] / 2
+        c = self.y + side * (self.opening + g.finger[0]) / 2
+        return c - g.finger[0] / 2, c + g.finger[0] / 2
 
     # -- world side -------------------------------------------------------------
     def attach(self, world) -> None:
@@ -138,10 +191,6 @@ class Gripper:
         world.space.add(self.body)
         for _, body, shape in self.fingers:
             world.space.add(body, shape)
-
-    def _finger_x(self, side: int, opening: float) -> float:
-        """Centre x of a finger for a given opening."""
-        return self.body.position[0] + side * (opening + self.geometry.finger[0]) / 2
 
     def _place_fingers(self, dt: float, state: tuple[float, float, float, float] | None = None
                        ) -> None:
@@ -155,8 +204,9 @@ class Gripper:
         else:
             hx, hz, vx, vz = state
         fz = hz - TIP + self.geometry.finger[2] / 2
+        half = (self.opening + self.geometry.finger[0]) / 2 if self.axis == 0 else 0.0
         for side, body, _ in self.fingers:
-            want = hx + vx * dt + side * (self.opening + self.geometry.finger[0]) / 2
+            want = hx + vx * dt + side * half  # y-jaws stand at the grip's x
             if dt > 0:
                 _set_velocity(body, ((want - body.position[0]) / dt, vz))
             else:
@@ -187,13 +237,19 @@ class Gripper:
         if self.opening <= 0.0:
             self._closing = False  # closed on nothing
             return
-        hx = self.body.position[0]
-        left, right = hx - self.opening / 2, hx + self.opening / 2
+        centre = self.body.position[0] if self.axis == 0 else self.y
+        left, right = centre - self.opening / 2, centre + self.opening / 2
         name = self.world.between(self, left, right)
         if name is None:
             return
-        bb = self.world.shapes[name].bb
-        if bb.left - left <= CONTACT and right - bb.right <= CONTACT:
+        lo, hi = self.world.extent(name, self.axis)
+        if self.axis == 1:
+            # A finger at a face pushes the block along y, as one along x does in pymunk.
+            push = max(0.0, left - lo) - max(0.0, hi - right)
+            if push:
+                self.world.shift_y(name, push)
+                lo, hi = lo + push, hi + push
+        if lo - left <= CONTACT and right - hi <= CONTACT:
             self._closing = False
             self.target_opening = self.opening
             self.world.grasp(self, name)

@@ -5,7 +5,8 @@ box in x-z under gravity and keeps its own y-extent; a contact between two
 bodies whose y-extents do not overlap is ignored (a begin/pre_solve callback
 rejects it), so support, stacking, balance and toppling are physical. The
 table spans all of y. Grippers (``perception.world.hand``) are kinematic and driven
-by position targets; a held block's y follows its gripper kinematically.
+by position targets; a held block's y follows its gripper kinematically, and
+what the robot's finger or held block runs into along y is pushed ahead of it.
 
 Ground-truth accessors (``positions``, ``relations``) are for evaluation only;
 perception's detectors never see this module (tests/test_boundaries.py).
@@ -29,6 +30,7 @@ DENSITY = 0.001  # g/mm^3 (wood-like); masses in g
 FRICTION = 0.7
 
 SLOP = 0.1  # mm: pymunk's resting penetration (Space.collision_slop)
+Y_TOUCH = 1e-6  # mm: y-ranges overlapping by no more than this only touch (rounding)
 
 BLOCK, FINGER = 1, 2  # collision types
 
@@ -92,11 +94,24 @@ class World:
     def add_gripper(self, gripper: Gripper) -> Gripper:
         """Put a gripper (the human hand or the robot's jaw) into the world."""
         gripper.attach(self)
+        self._mark_fingers(gripper)
+        self.grippers.append(gripper)
+        return gripper
+
+    def replace_fingers(self, gripper: Gripper, old: list) -> None:
+        """The wrist turned: the gripper's new finger bodies replace the old ones."""
+        for _, body, shape in old:
+            self.space.remove(body, shape)
+        for _, body, shape in gripper.fingers:
+            self.space.add(body, shape)
+        self._mark_fingers(gripper)
+
+    @staticmethod
+    def _mark_fingers(gripper: Gripper) -> None:
+        """Finger shapes collide as fingers and know their gripper (the y filter)."""
         for _, _, shape in gripper.fingers:
             shape.collision_type = FINGER
             shape.gripper = gripper
-        self.grippers.append(gripper)
-        return gripper
 
     def displace(self, name: str, by: tuple[float, float]) -> None:
         """Slide a block by (dx, dy) mm (a fault, perception/world/faults.py); riders may fall."""
@@ -128,15 +143,13 @@ class World:
         if name is not None:
             half = self.sizes[name][1] / 2
             return self.y[name] - half, self.y[name] + half
-        g = shape.gripper
-        half = g.geometry.finger[1] / 2
-        return g.y - half, g.y + half
+        return shape.gripper.finger_y_range(shape.side)
 
     def _filter(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
         """Ignore contacts of bodies apart in y, and of fingers with the block they hold."""
         a, b = arbiter.shapes
         ya, yb = self._y_range(a), self._y_range(b)
-        if min(ya[1], yb[1]) - max(ya[0], yb[0]) <= 0.0:
+        if min(ya[1], yb[1]) - max(ya[0], yb[0]) <= Y_TOUCH:
             arbiter.process_collision = False
             return
         for finger, block in ((b, a), (a, b)):
@@ -155,12 +168,78 @@ class World:
                 g.substep(start, g.target, (k + 1) / n, h)
             self.space.step(h)
         for g in self.grippers:
-            g.y = g.target[1]
-            if g.holding is not None:
-                self.y[g.holding] = g.y + g._hold_dy
-                for name, dy in g.riders.items():
-                    self.y[name] = g.y + dy
+            if g.target[1] == g.y:
+                continue
+            if g.y_contacts:
+                self._move_y(g, g.target[1])
+            else:  # a scripted hand: its path keeps clear of blocks along y
+                g.y = g.target[1]
+                if g.holding is not None:
+                    self.y[g.holding] = g.y + g._hold_dy
+                    for name, dy in g.riders.items():
+                        self.y[name] = g.y + dy
         self.time += dt
+
+    def _move_y(self, g: Gripper, y: float) -> None:
+        """The gripper goes to ``y``, its held block and riders with it (pymunk has no y).
+
+        A contact along y is kinematic: a finger or a carried block that runs into
+        a block overlapping it in x-z pushes that block ahead of it, as one running
+        into it along x does in pymunk (a force-limited hold pushes rather than
+        slips against a block on the table: 25 times its weight against friction).
+        """
+        carried = [g.holding, *g.riders] if g.holding is not None else []
+        dy = y - g.y
+        movers = [(shape.bb, g.finger_y_range(side)) for side, _, shape in g.fingers]
+        movers += [(self.shapes[n].bb, self.extent(n, 1)) for n in carried]
+        g.y = y
+        left, right = min(bb.left for bb, _ in movers), max(bb.right for bb, _ in movers)
+        low = min(bb.bottom for bb, _ in movers)
+        near = {}  # blocks whose x-z box meets the movers' x-z span: the only ones in reach
+        for n in self.names:
+            ob = self.shapes[n].bb
+            if ob.top > low + SLOP and ob.right > left + SLOP and ob.left < right - SLOP \
+                    and n not in carried:
+                near[n] = ob
+        for bb, (y0, y1) in movers if near else ():
+            self._sweep_y(bb, (y0, y1), (y0 + dy, y1 + dy), near)
+        for name in carried:
+            self.y[name] += dy
+
+    def _sweep_y(self, bb: pymunk.BB, span0: tuple[float, float], span1: tuple[float, float],
+                 among: dict[str, pymunk.BB]) -> None:
+        """A box of x-z bounds ``bb`` moved along y from ``span0`` to ``span1``: push the
+        blocks ``among`` it runs into (and, through them, the blocks they run into)."""
+        d = span1[0] - span0[0]
+        if d == 0.0:
+            return
+        for other, ob in among.items():
+            if min(bb.right, ob.right) - max(bb.left, ob.left) <= SLOP or \
+                    min(bb.top, ob.top) - max(bb.bottom, ob.bottom) <= SLOP:
+                continue  # they only graze in x-z: they never meet
+            lo, hi = self.extent(other, 1)
+            if d > 0 and span0[1] <= lo + Y_TOUCH < span1[1]:
+                push = span1[1] - lo
+            elif d < 0 and span1[0] < hi - Y_TOUCH <= span0[0]:
+                push = span1[0] - hi
+            else:
+                continue
+            rest = {n: b for n, b in among.items() if n != other}
+            self._sweep_y(ob, (lo, hi), (lo + push, hi + push), rest)
+            self.shift_y(other, push)
+
+    def shift_y(self, name: str, dy: float, riders: Iterable[str] | None = None) -> None:
+        """Move a block along y with what rides on it (kinematic: pymunk has no y)."""
+        for n in (name, *(self._riders(name) if riders is None else riders)):
+            self.y[n] += dy
+
+    def extent(self, name: str, axis: int) -> tuple[float, float]:
+        """A block's extent along x (0, its x-z bounds) or y (1), mm."""
+        if axis == 0:
+            bb = self.shapes[name].bb
+            return bb.left, bb.right
+        half = self.sizes[name][1] / 2
+        return self.y[name] - half, self.y[name] + half
 
     def settle(self, seconds: float, dt: float = 1 / 30) -> None:
         """Let the world run without commands (e.g. after building a scene)."""
@@ -169,19 +248,23 @@ class World:
 
     # -- gripper services -------------------------------------------------------------
     def between(self, g: Gripper, left: float, right: float) -> str | None:
-        """The block between a gripper's fingers (in its y and finger z range), if any."""
-        gy0, gy1 = g.y - g.geometry.finger[1] / 2, g.y + g.geometry.finger[1] / 2
+        """The block between a gripper's fingers, whose inner faces are at ``left`` and
+        ``right`` along the jaw axis, within the fingers' reach across it and in z."""
+        across = 1 - g.axis
+        half = g.geometry.finger[1] / 2  # a finger's depth, across the jaws
+        mid = g.y if across == 1 else g.body.position[0]
         fz0 = g.body.position[1] - TIP
         fz1 = fz0 + g.geometry.finger[2]
         best, best_gap = None, math.inf
         for name in self.names:
             bb = self.shapes[name].bb
-            y0, y1 = self.y[name] - self.sizes[name][1] / 2, self.y[name] + self.sizes[name][1] / 2
-            if bb.right < left - 1 or bb.left > right + 1 or bb.top < fz0 or bb.bottom > fz1:
+            lo, hi = self.extent(name, g.axis)
+            a0, a1 = self.extent(name, across)
+            if hi < left - 1 or lo > right + 1 or bb.top < fz0 or bb.bottom > fz1:
                 continue
-            if min(y1, gy1) - max(y0, gy0) <= 0:
+            if min(a1, mid + half) - max(a0, mid - half) <= 0:
                 continue
-            gap = (bb.left - left) + (right - bb.right)
+            gap = (lo - left) + (right - hi)
             if gap < best_gap:
                 best, best_gap = name, gap
         return best

@@ -8,14 +8,16 @@ in arm coordinates (Fig. 24) and are turned back into world coordinates with
 the same calibration the command generator used. Motion is point to point
 (Sec. VII-B) along a straight line with a minimum-jerk speed profile; every
 world step can be handed to a frame callback, so the execution is rendered
-with the same cameras as the demonstration.
+with the same cameras as the demonstration. The wrist turns about the vertical
+axis (``turn-wrist``), so the jaws close along x or y; ``push`` is an amove
+whose closed jaws push a block ahead of them (the fine motion, docs/execution.md).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from lbw_engine.do.expander import Command
 from lbw_engine.rules.commands import ArmFrame
@@ -40,11 +42,12 @@ class Robot:
 
     def __init__(self, world: World, frame: ArmFrame, home: Vec3, speed: float = 300.0,
                  dt: float = 1 / 60, on_step: Callable[[World], None] | None = None,
-                 finger: Vec3 | None = None) -> None:
+                 finger: Vec3 | None = None, max_opening: float | None = None) -> None:
         """Put the arm's gripper into ``world`` at ``home`` (world mm), jaws open.
 
-        ``finger`` is the finger box the command generator planned with
-        (commands.yaml ``gripper.finger``); the robot is built with the same.
+        ``finger`` and ``max_opening`` are the finger box and the widest opening the
+        command generator planned with (commands.yaml ``gripper``); the robot is
+        built with the same.
         """
         self.world = world
         self.frame = frame
@@ -52,12 +55,15 @@ class Robot:
         self.dt = dt
         self.on_step = on_step
         geometry = GripperGeometry(finger=tuple(finger)) if finger else GripperGeometry()
+        if max_opening is not None:
+            geometry = replace(geometry, max_opening=max_opening)
         self.gripper = world.add_gripper(Gripper(tuple(home), opening=80.0, kind="arm",
-                                                 geometry=geometry))
+                                                 geometry=geometry, y_contacts=True))
         self.log = RobotLog()
         self.current: Command | None = None
         self._do = {"amove": self.amove, "open-hand": self.open_hand,
-                    "close-hand": self.close_hand}
+                    "close-hand": self.close_hand, "turn-wrist": self.turn_wrist,
+                    "push": self.amove}
 
     # -- commands (Sec. VII-B) ----------------------------------------------------
     def execute(self, commands: Iterable[Command]) -> RobotLog:
@@ -70,6 +76,8 @@ class Robot:
                 self._do[c.name](c.arm)
             elif c.width is not None:
                 self._do[c.name](c.width)
+            elif c.angle is not None:
+                self._do[c.name](c.angle)
             else:
                 self._do[c.name]()
             self.log.executed += 1
@@ -90,6 +98,13 @@ class Robot:
             self.gripper.move_to(tuple(start[i] + (goal[i] - start[i]) * f for i in range(3)))
             self._step()
         self._wait(lambda: self.gripper.settled, 1.0)
+
+    def turn_wrist(self, angle: float) -> None:
+        """Turn the wrist about the vertical: the jaws close along world x (0°) or y (90°)."""
+        if abs(angle - 90.0 * round(angle / 90.0)) > 1e-6:
+            raise ValueError(f"the wrist turns by quarter turns only, not {angle:g}°")
+        self.gripper.turn(round(angle / 90.0) % 2)
+        self._wait(lambda: False, 0.2)  # the turn takes a moment
 
     def open_hand(self, width: float) -> None:
         """Open the jaws to ``width`` mm (releases a held block)."""

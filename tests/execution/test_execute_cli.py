@@ -19,7 +19,9 @@ def run(tmp_path, plan, scenario, capsys):
     return code, out, printed.err
 
 
-@pytest.mark.parametrize("name,count", [("build-table", 45), ("inverted-arch", 36)],
+# The inverted arch's 160 mm plank is wider than the jaws open (commands.yaml
+# max-opening): it is taken across its 60 mm side, one turn-wrist more (issue #12).
+@pytest.mark.parametrize("name,count", [("build-table", 45), ("inverted-arch", 37)],
                          ids=["SecVIII-build-table", "Fig14-inverted-arch"])
 def test_plan_executes_and_verifies(tmp_path, capsys, name, count):
     code, out, err = run(tmp_path, f"{name}.plan.json", bundled_scenario(name), capsys)

@@ -21,6 +21,7 @@ RULES = RULESET.commands
 A = RULES.approach_height
 P1 = (40.0, 120.0, 25.0)  # a brick's centre on the table
 P2 = (-60.0, 200.0, 80.0)
+P3 = (-30.0, 200.0, 80.0)
 START = (150.0, 300.0, 150.0)  # the hand, away from P1 and below the approach height
 W = 30.0 + RULES.margin
 
@@ -36,7 +37,7 @@ def _run(macro, args, hand=START, held=None):
     model = _model(hand, held)
     ex = Expander(RULES, model)
     cmds = ex.run((Step(macro, args),), Context(goal=None, width=W, where="test"),
-                  scope={"p1": P1, "p2": P2})
+                  scope={"p1": P1, "p2": P2, "p3": P3})
     out = [(c.name, c.world if c.world is not None else c.width) for c in cmds]
     return out, model
 
@@ -55,6 +56,15 @@ ROWS = [
     ("go-placepos", ("p2",), [("amove", (P2[0], P2[1], START[2])), ("amove", P2)]),
     # go-maxheight: straight up to the approach height
     ("go-maxheight", (), [("amove", (START[0], START[1], A))]),
+    # Ours (issue #12, docs/execution.md "Fine motion"): set down clear of a contact,
+    # then slide into it holding the block ...
+    ("SLIDE-PLACE", ("p1", "p2"), [("amove", (P1[0], P1[1], START[2])), ("amove", P1),
+                                   ("amove", P2), ("open-hand", W), ("amove", (P2[0], P2[1], A))]),
+    # ... or let go, close the jaws above it, come down beside it and push it in.
+    ("PUSH-PLACE", ("p1", "p2", "p3"), [
+        ("amove", (P1[0], P1[1], START[2])), ("amove", P1), ("open-hand", W),
+        ("amove", (P1[0], P1[1], A)), ("close-hand", None), ("amove", (P2[0], P2[1], A)),
+        ("amove", P2), ("push", P3), ("amove", (P3[0], P3[1], A))]),
 ]
 
 
@@ -92,6 +102,16 @@ def test_null_moves_are_not_emitted():
     assert got == [("amove", P1)]
 
 
+@pytest.mark.parametrize("angle,emitted", [(0.0, []), (90.0, ["turn-wrist 90.0"])],
+                         ids=["jaws-along-x-already", "turn-to-y"])
+def test_the_wrist_turns_only_when_the_grip_needs_it(angle, emitted):
+    model = _model(START)
+    ex = Expander(RULES, model)
+    cmds = ex.run((Step("turn-wrist", ("wrist",)),),
+                  Context(goal=None, width=W, where="test", wrist=angle))
+    assert [c.text() for c in cmds] == emitted and model.wrist == angle
+
+
 BAD = [
     ("unknown-key", "approach-height: 200.0", "approach-height: 200.0\nspeed: 3",
      "unknown key 'speed'"),
@@ -105,6 +125,15 @@ BAD = [
     ("bad-goal-source", "{goal: [object], steps: [[PICK", "{goal: [thing], steps: [[PICK",
      "unknown name 'thing'"),
     ("not-orthonormal", "    - [0.0, 0.0, -1.0]", "    - [0.0, 0.0, -0.5]", "orthonormal"),
+    ("jaw-axis-z", "jaw-axes: [x, y]", "jaw-axes: [x, z]", "unknown name 'z'"),
+    ("jaw-axes-twice", "jaw-axes: [x, y]", "jaw-axes: [x, x]", "each way the jaws close once"),
+    ("max-opening-zero", "max-opening: 150.0", "max-opening: 0", "expected a number in [1, 1000]"),
+    ("fine-relation-unknown", "relations: [coplanar]", "relations: [coplanr]",
+     "unknown name 'coplanr'"),
+    ("harmless-class-unknown", "harmless: [FAKE]", "harmless: [FAKES]", "unknown name 'FAKES'"),
+    ("turn-wrist-arity", "[turn-wrist, wrist]", "[turn-wrist]", "'turn-wrist' takes 1 argument"),
+    ("set-aside-unknown-name", "[PLACE, set-down]", "[PLACE, put-down]",
+     "unknown name 'put-down'"),
 ]
 
 

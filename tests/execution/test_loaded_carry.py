@@ -16,7 +16,7 @@ import pytest
 
 from lbw_engine.do import plan as planmod
 from lbw_engine.do.balance import steadied, unbalanced
-from lbw_engine.do.tracing import format_commands
+from lbw_engine.do.listing import format_commands
 from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.pipeline.execute import execute_plan
 from lbw_engine.rules import load_rules

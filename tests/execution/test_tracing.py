@@ -5,7 +5,8 @@ from pathlib import Path
 import pytest
 
 from lbw_engine.do import plan as planmod
-from lbw_engine.do.tracing import format_commands, trace
+from lbw_engine.do.listing import format_commands
+from lbw_engine.do.tracing import trace
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.rules import load_rules
@@ -32,8 +33,10 @@ def model_of(objects, extra=()):
 
 ARCH = planmod.load(DATA / "inverted-arch.plan.json")
 TABLE_PLAN = planmod.load(DATA / "build-table.plan.json")
-ARCH_OBJECTS = {"pillar": ("short-brick", 200, 300), "brick-a": ("medium-brick", 100, 80),
-                "brick-b": ("medium-brick", -220, 300)}
+# Apart from every plank position below (a brick standing in the plank's footprint
+# would be inside it, and the fingers gripping it would meet the plank).
+ARCH_OBJECTS = {"pillar": ("short-brick", 200, 300), "brick-a": ("medium-brick", 100, 200),
+                "brick-b": ("medium-brick", -50, 250)}
 
 
 def _goals(tr, operation):

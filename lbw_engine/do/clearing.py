@@ -1,0 +1,130 @@
+"""Blocks that start stacked on one the plan picks: set them aside first.
+
+The plan's objects may start stacked in the execution workspace where they lay
+apart when taught (design.md: "stacks in the teach or execute workspace").
+Picking a block carries whatever rests on it (the plank of Fig. 14), which is
+what the plan means only for blocks it put there itself, or whose riding it
+recorded (an operator's SI). Any other rider — a plan object still to be put
+where the plan wants it, or an object the plan does not use — is first put on
+a free spot of the table, top-most first, by commands.yaml's ``set-aside``
+steps; then the pick goes on as planned. The paper leaves execution repairs
+open (Sec. IX-C2); this is the least one that keeps the plan's meaning.
+
+A free spot is a table spot where the rider and the open jaws around it meet
+nothing, away from where the plan will build (each taught placement in world
+coordinates, grown by ``BUILD_MARGIN_MM``), nearest the rider first.
+
+The same steps put down a block that no one way of closing the jaws can both
+pick up and put where the plan wants it (``plan_regrasp``): it is set down on a
+free spot where it can be let go one way and taken again the other.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from lbw_engine.do import grasp, jaws
+from lbw_engine.do.plan import Plan, Relation
+from lbw_engine.model.env import EnvModel
+from lbw_engine.model.geometry import TABLE, Vec, overlap
+from lbw_engine.rules.commands import CommandRules
+
+TABLE_X = (-300.0, 300.0)  # design.md: the table top, mm
+TABLE_Y = (0.0, 400.0)
+EDGE_MM = 12.0  # kept from the table's edge
+GRID_MM = 10.0  # spacing of candidate spots
+BUILD_MARGIN_MM = 60.0  # room kept around the places the plan will fill
+
+
+@dataclass(frozen=True)
+class SetAside:
+    """One rider put aside: its name, where it stood, where it goes, its grip."""
+
+    name: str
+    start: Vec
+    spot: Vec
+    axis: int
+    offset: float
+
+
+def unplanned_riders(plan: Plan, focus: str, rules: CommandRules,
+                     model: EnvModel) -> list[str]:
+    """What rests on ``focus`` that the plan did not put there nor means to carry, top first."""
+    riders = model.supported_by(focus)
+    stack = {focus, *riders}
+    meant = {r.subject for op in plan.operators.values() for r in op.si
+             if r.type in rules.support_relations and stack & set(r.objects)}
+    return [r for r in reversed(riders) if r not in model.placed and r not in meant]
+
+
+def plan_set_aside(plan: Plan, name: str, rules: CommandRules,
+                   model: EnvModel) -> SetAside | None:
+    """Where and how to put ``name`` down on the table, or None if nowhere is free."""
+    body = model.bodies[name]
+    axis, off = grasp.choose(name, body.position, rules, model, strict=False)
+    avoid = _build_sites(plan, rules, model)
+    for spot in _spots(body.position, body.size):
+        if _clear(name, spot, axis, off, rules, model, avoid):
+            return SetAside(name, body.position, spot, axis, off)
+    return None
+
+
+def plan_regrasp(plan: Plan, name: str, picks: list[tuple[int, float]],
+                 places: list[tuple[int, float]], rules: CommandRules,
+                 model: EnvModel) -> SetAside | None:
+    """Where to put ``name`` down to take it again another way (grasp.NoCommonGrip): a
+    free table spot where one of ``picks`` can let go of it and one of ``places`` can
+    take it up, nearest it first."""
+    body = model.bodies[name]
+    avoid = _build_sites(plan, rules, model)
+    for spot in _spots(body.position, body.size):
+        for axis, off in picks:
+            if _clear(name, spot, axis, off, rules, model, avoid) and any(
+                    jaws.blocker(name, spot, a, o, rules, model) is None for a, o in places):
+                return SetAside(name, body.position, spot, axis, off)
+    return None
+
+
+def support_on_table(name: str, rules: CommandRules) -> Relation:
+    """The relation that says ``name`` now rests on the table (the single support role)."""
+    return Relation(rules.support_relations[0], name, (TABLE,))
+
+
+def _spots(start: Vec, size: Vec) -> list[Vec]:
+    """Candidate table spots for a box of ``size``, nearest ``start`` first."""
+    hx, hy = size[0] / 2 + EDGE_MM, size[1] / 2 + EDGE_MM
+    out = []
+    x = TABLE_X[0] + hx
+    while x <= TABLE_X[1] - hx:
+        y = TABLE_Y[0] + hy
+        while y <= TABLE_Y[1] - hy:
+            out.append((x, y, size[2] / 2))
+            y += GRID_MM
+        x += GRID_MM
+    return sorted(out, key=lambda p: (p[0] - start[0]) ** 2 + (p[1] - start[1]) ** 2)
+
+
+def _build_sites(plan: Plan, rules: CommandRules, model: EnvModel) -> list[tuple[Vec, Vec]]:
+    """Boxes around the taught placements in world coordinates: the plan builds there."""
+    out = []
+    for op in plan.operators.values():
+        for r in op.sc_plus:
+            if r.type in rules.support_relations and r.at is not None and \
+                    r.wrt in (None, TABLE) and r.subject in model.bodies:
+                s = model.bodies[r.subject].size
+                grow = 2 * BUILD_MARGIN_MM
+                out.append(((r.at[0], r.at[1], 150.0), (s[0] + grow, s[1] + grow, 300.0)))
+    return out
+
+
+def _clear(name: str, spot: Vec, axis: int, off: float, rules: CommandRules,
+           model: EnvModel, avoid: list[tuple[Vec, Vec]]) -> bool:
+    """Can ``name`` stand at ``spot``, the jaws around it, away from the build sites?"""
+    size = model.bodies[name].size
+    ignore = jaws.moving(name, model)
+    if any(overlap(spot, size, c, s, tol=0.0) for c, s in avoid):
+        return False
+    if any(overlap(spot, size, b.position, b.size, tol=-rules.jaw_clearance)
+           for n, b in model.bodies.items() if n not in ignore):
+        return False
+    return jaws.blocker(name, spot, axis, off, rules, model) is None
