@@ -349,7 +349,7 @@ def run(args: argparse.Namespace) -> int:
     if args.faults:
         from lbw_engine.cli.bench_faults import run_faults
 
-        return run_faults(args, out, recs, rules)
+        return run_faults(args, out, recs, rules, tasks(args.count, args.seed), records_text)
     partial = recs.with_name(recs.name + ".partial")
     partial.parent.mkdir(parents=True, exist_ok=True)
     doc = bench(args.count, args.seed, args.jobs, rules, args.cluster, partial, args.resume)

@@ -246,15 +246,17 @@ def format_faults(s: dict[str, Any]) -> str:
     ])
 
 
-def run_faults(args: Any, out: Any, recs: Any, rules_dir: str | None) -> int:
-    """``lbw bench --faults``: run, print the figures, write the summary and the records."""
+def run_faults(args: Any, out: Any, recs: Any, rules_dir: str | None,
+               scenario_set: list[tuple[int, str]], records_text: Any) -> int:
+    """``lbw bench --faults``: run, print the figures, write the summary and the records.
+
+    ``scenario_set`` and ``records_text`` are lbw bench's (same seeds, same JSON lines)."""
     import time
 
-    from lbw_engine.cli.bench import records_text, tasks
     from lbw_engine.cli.cluster import executor
     from lbw_engine.outputs import atomic_write_text, to_json
 
-    work = [(s, level, rules_dir) for s, level in tasks(args.count, args.seed)]
+    work = [(s, level, rules_dir) for s, level in scenario_set]
     started = time.perf_counter()
     records: list[dict[str, Any]] = []
     with executor(args.jobs, args.cluster) as (pool, runner):
