@@ -80,7 +80,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
     parser.add_argument("--families", metavar="NAME[,NAME]",
                         help="scenario families to draw from, in turn (default: all; "
-                             "perception.world.generator.FAMILIES)")
+                             "perception.world.generator.FAMILIES; with --faults: classic)")
+    parser.add_argument("--faults", action="store_true",
+                        help="execute each learned plan without and with injected faults "
+                             "(drop, displace, remove; issue #13) and report detection, "
+                             "repair and the cameras' agreement with the ground truth")
     parser.add_argument("--scenarios", metavar="DIR",
                         help="also write each generated scenario as DIR/gen-SEED-LEVEL.yaml "
                              "(to rerun a failing case with lbw run)")
@@ -198,6 +202,9 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
         result = execute_plan(planmod.parse(plan, file="plan.json"), sc, rules)
         rec["execute_seconds"] = time.perf_counter() - clock
         rec["execution_success"] = bool(result.success)
+        checks = result.report.get("verification")
+        if isinstance(checks, dict):  # the cameras' verdict against the simulator's
+            rec["verdicts_agree"] = checks["cameras"] == checks["ground_truth"]
         if not result.success:
             rec["failure"] = f"execution: {result.message}"
     rec["total_seconds"] = time.perf_counter() - start
@@ -372,6 +379,12 @@ def run(args: argparse.Namespace) -> int:
             for seed, level, fam in tasks(args.count, args.seed, families):
                 folder.write_text(f"gen-{seed}-{level}.yaml",
                                   generate(seed, level, family=fam).text)
+    if args.faults:
+        from lbw_engine.cli.bench_faults import run_faults
+
+        # faults are about the robot's repairs: on the classic structures unless asked
+        return run_faults(args, out, recs, rules,
+                          tasks(args.count, args.seed, families or ("classic",)), records_text)
     partial = recs.with_name(recs.name + ".partial")
     partial.parent.mkdir(parents=True, exist_ok=True)
     doc = bench(args.count, args.seed, args.jobs, rules, args.cluster, partial, args.resume,

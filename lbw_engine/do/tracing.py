@@ -23,6 +23,7 @@ leaves are done, by its SC⁻ / SC⁺ (Sec. VII-A 2c).
 from __future__ import annotations
 
 import copy
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -77,10 +78,20 @@ class Trace:
         return list(last.values())
 
 
-def trace(plan: Plan, rules: CommandRules, model: EnvModel) -> Trace:
-    """Walk the plan depth first, expanding each leaf against the (updated) model."""
+def trace(plan: Plan, rules: CommandRules, model: EnvModel,
+          on_operator: Callable[[str, EnvModel], None] | None = None,
+          roots: Sequence[str] | None = None) -> Trace:
+    """Walk the plan depth first, expanding each leaf against the (updated) model.
+
+    ``on_operator(name, model)`` is called as each operator is done (the
+    monitor's expected state after it); ``roots`` traces just those operators,
+    in that order (a local repair), instead of the plan's root.
+    """
     ops: list[TracedOp] = []
-    _Walker(plan, rules, model, ops).operator(plan.root)
+    walker = _Walker(plan, rules, model, ops)
+    walker.on_operator = on_operator
+    for name in roots if roots is not None else [plan.root]:
+        walker.operator(name)
     return Trace(ops, model)
 
 
@@ -92,12 +103,15 @@ class _Walker:
         """Walk ``plan`` against ``model``, appending traced leaves to ``ops``."""
         self.plan, self.rules, self.model, self.ops = plan, rules, model, ops
         self.expander = Expander(rules, model)
+        self.on_operator: Callable[[str, EnvModel], None] | None = None
 
     def operator(self, name: str) -> None:
         """Trace one operator's plot, then apply its SC⁻ / SC⁺ if it has leaves."""
         op = self.plan.operators[name]
         if self.plot(op, op.plot):
             self.model.apply(op.sc_minus, op.sc_plus)
+        if self.on_operator is not None:
+            self.on_operator(name, self.model)
 
     def plot(self, op: Operator, plot: Any) -> bool:
         """Trace a plot of ``op``; True if it held a leaf of ``op`` itself."""

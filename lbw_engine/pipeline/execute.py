@@ -19,12 +19,20 @@ from typing import Any
 
 from lbw_engine.do.listing import format_commands
 from lbw_engine.do.matching import Measured, match_initial_state, plan_objects, taught_shapes
+from lbw_engine.do.monitor import pair_by_shape
 from lbw_engine.do.plan import Plan
 from lbw_engine.do.tracing import Trace, trace
-from lbw_engine.do.verification import ObjectState, verify
+from lbw_engine.do.verification import TOPPLE_RAD, ObjectState, verify
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.outputs import OutputDir
+from lbw_engine.pipeline.monitor import (
+    Eyes,
+    Monitored,
+    camera_verdict,
+    run_monitored,
+    step_aside,
+)
 from lbw_engine.rules import RuleSet
 
 SETTLE_S = 2.0  # seconds the world runs after the last command before measuring
@@ -56,6 +64,7 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     cannot be done or does not verify gives ``success=False`` with a message.
     """
     from perception.vision.camera import default_cameras
+    from perception.world.faults import FaultInjector
     from perception.world.physics import World
     from perception.world.render import Renderer
     from perception.world.robot import FINGERTIP, Robot
@@ -72,7 +81,7 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     renderer = Renderer(default_cameras(), pixel_noise=sc.noise.pixel, seed=sc.seed)
     views = {"execution-initial": renderer.render(world.scene())}
     measured, source = measure_initial_state(world, sc, views["execution-initial"])
-    start = world.positions()  # to name world bodies by plan object at the end
+    start = world.positions()
     errors = [min(math.dist(m.position, p) for p in start.values()) for m in measured]
     report: dict[str, Any] = {
         "success": False,
@@ -86,43 +95,60 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
         model = _model(taught, sc.shapes, matching, measured, ruleset)
         fresh = copy.deepcopy(model) if via == "bt" else None
-        tr = trace(plan, rules, model)
+        trace(plan, rules, copy.deepcopy(model))  # a plan that cannot be traced fails here
     except TaskFailed as exc:
         report.update(stage="instantiation", failure=f"instantiation: {exc}", mismatches=[])
         return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report, None, views,
                                "instantiation")
-    robot = Robot(world, rules.arm_frame, rules.home, on_step=on_step, finger=rules.finger,
-                  max_opening=rules.max_opening)
+    shape_of = {n: taught[n]["shape"] for n in matching.assigned}
+    eyes = Eyes(world, renderer, sc.shapes, shape_of)
+    injector = FaultInjector(world, sc.faults, {n: n for n in world.names})
+    robot = Robot(world, rules.arm_frame, rules.home, on_step=_steps(injector, on_step),
+                  finger=rules.finger, max_opening=rules.max_opening)
     report["via"] = via
-    if fresh is None:
-        log = robot.execute(tr.commands)
-    else:
-        from lbw_engine.do.behaviour import run_tree
-        try:
+    mon = Monitored()
+    report["monitor"] = {"detections": mon.detections, "repairs": mon.repairs,
+                         "units": mon.spans}
+    if hasattr(on_step, "follow"):  # a recorder that shows the monitor (pictures)
+        on_step.follow(mon, robot, eyes)
+    try:
+        if fresh is None:
+            run_monitored(plan, ruleset, model, robot, eyes, injector, mon)
+            tr, model, log = Trace(mon.ops, mon.model), mon.model, robot.log
+        else:
+            from lbw_engine.do.behaviour import run_tree
             tr, report["ticks"] = run_tree(plan, rules, fresh, robot.execute)
-        except TaskFailed as exc:
-            report.update(stage="execution", failure=f"execution: {exc}", mismatches=[])
-            return ExecutionResult(False, str(exc), f";;; stopped: {exc}\n", report, None, views,
-                                   "execution")
-        log, model = robot.log, tr.model
+            log, model = robot.log, tr.model
+    except TaskFailed as exc:
+        report.update(stage="execution", failure=f"execution: {exc}", mismatches=[],
+                      faults=injector.injected, ground_truth_toppled=_toppled(world))
+        return ExecutionResult(False, str(exc), f";;; stopped: {exc}\n", report, None, views,
+                               "execution")
     names = list(matching.assigned)
     expected = model.settled(names)
     expected_sup = model.final_supports(names)
+    step_aside(robot, rules)  # the cameras must see the structure, not the gripper
     robot.settle(SETTLE_S)
-    views["execution-final"] = renderer.render(world.scene())
-    verdict = verify(expected, expected_sup, _final_state(world, start, measured, matching),
-                     rules.support_relations, alignments=tr.alignments,
-                     coplanar_tolerance=rules.fine.coplanar_tolerance)
+    views["execution-final"] = eyes.last_images = renderer.render(world.scene())
+    fine = {"alignments": tr.alignments, "coplanar_tolerance": rules.fine.coplanar_tolerance}
+    verdict, seen = camera_verdict(eyes, expected, expected_sup, rules.support_relations, fine)
+    truth = verify(expected, expected_sup, _final_state(world, sc, expected, shape_of),
+                   rules.support_relations, **fine)
     report.update(verdict.to_json())
     report.update(
         stage="verification",
+        verification={"cameras": verdict.success, "ground_truth": truth.success},
         commands=len(tr.commands),
         expected={"relations": [[t, n, list(o) if len(o) > 1 else o[0]]
                                 for n, (t, o) in sorted(expected_sup.items())],
                   "positions": {n: _r(p) for n, p in sorted(expected.items())},
                   "aligned": [{"object": a.subject, "with": a.partner, "face": a.face}
                               for a in tr.alignments]},
-        final_state_source="ground-truth",
+        final_state_source="object-finder",
+        inferred_hidden=seen.inferred,
+        ground_truth_mismatches=truth.mismatches,
+        faults=injector.injected,
+        ground_truth_toppled=_toppled(world),
         robot={"grasps": log.grasps, "sim_time": round(log.time, 2)},
     )
     msg = "the executed structure matches the plan" if verdict.success else \
@@ -132,6 +158,20 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     title = f"plan {plan.root} in {sc.name}"
     return ExecutionResult(verdict.success, msg, format_commands(tr, title), report, tr, views,
                            None if verdict.success else "verification")
+
+
+def _toppled(world: Any) -> list[str]:
+    """World blocks lying tilted (ground truth, evaluation only: the bench's scoring)."""
+    return sorted(n for n, a in world.angles().items() if abs(a) > TOPPLE_RAD)
+
+
+def _steps(injector: Any, on_step: Callable[[Any], None] | None) -> Callable[[Any], None]:
+    """The robot's per-step hook: the world's faults first, then the caller's (frames)."""
+    def step(world: Any) -> None:
+        injector.on_step(world)
+        if on_step is not None:
+            on_step(world)
+    return step
 
 
 def _taught(plan: Plan, sc: Any) -> dict[str, dict]:
@@ -180,24 +220,22 @@ def _model(taught: dict, shapes: dict, matching: Any, measured: list[Measured],
     return EnvModel.measured(rules, bodies, rules.commands.home)
 
 
-def _final_state(world: Any, start: dict[str, tuple], measured: list[Measured],
-                 matching: Any) -> dict[str, ObjectState]:
-    """Final ground-truth states, named by plan object.
+def _final_state(world: Any, sc: Any, expected: dict[str, tuple],
+                 shape_of: dict[str, str]) -> dict[str, ObjectState]:
+    """Final ground-truth states, named by plan object (evaluation only).
 
-    A plan object is the world body that started nearest to the measured
-    position it was matched to (the measurement may come from the cameras).
+    Blocks of one shape are interchangeable: each plan object is the world body
+    of its shape nearest to where it is expected (the robot may have used a
+    spare for a removed one).
     """
     pos, ang = world.positions(), world.angles()
-    by_plan = {}
-    taken: set[str] = set()
-    for name, i in matching.assigned.items():
-        body = min((b for b in world.names if b not in taken),
-                   key=lambda b: math.dist(start[b], measured[i].position))
-        taken.add(body)
-        by_plan[name] = body
-    out = {n: ObjectState(pos[b], world.sizes[b], ang[b]) for n, b in by_plan.items()}
-    for b in world.names:
-        if b not in taken:
+    bodies = list(world.names)
+    truth = [Measured(sc.execute.objects[b].shape, pos[b], world.sizes[b]) for b in bodies]
+    named = pair_by_shape(expected, shape_of, truth)
+    out = {n: ObjectState(pos[bodies[i]], world.sizes[bodies[i]], ang[bodies[i]])
+           for n, i in named.items()}
+    for i, b in enumerate(bodies):
+        if i not in named.values():
             out[f"unused:{b}"] = ObjectState(pos[b], world.sizes[b], ang[b])
     return out
 

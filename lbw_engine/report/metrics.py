@@ -167,6 +167,9 @@ def summarize(records: list[dict[str, Any]], levels: Sequence[str]) -> dict[str,
             "timing_error_p95_s": percentile(timing, 95),
             "plan_correct_rate": _rate(rs, "plan_correct"),
             "execution_success_rate": _rate(rs, "execution_success"),
+            # issue #13: the cameras' verdict against the simulator's, where both were given
+            "verdicts_agree_rate": _rate([r for r in ok if "verdicts_agree" in r],
+                                         "verdicts_agree"),
             "realtime_factor_watch": _ratio(ok, "demo_seconds", "watch_seconds"),
             "realtime_factor_pipeline": _ratio(ok, "demo_seconds", "total_seconds"),
             "pixels_per_frame": statistics.fmean(r["pixels_per_frame"] for r in ok) if ok
@@ -199,7 +202,7 @@ def _with_ci(s: dict[str, Any], figure: str) -> str:
 def format_table(summary: dict[str, dict]) -> str:
     """The per-level figures as a plain text table; rates with their 95% Wilson intervals."""
     rows = [("level", "n", "exact", "exact rep", "edit-acc", "t-err med", "t-err p95",
-             "plan ok", "exec ok", "RTF watch", "RTF all", "px/frame")]
+             "plan ok", "exec ok", "cams=gt", "RTF watch", "RTF all", "px/frame")]
 
     def f(v: Any, fmt: str) -> str:
         """Format or dash."""
@@ -210,7 +213,8 @@ def format_table(summary: dict[str, dict]) -> str:
                      _with_ci(s, "exact_repaired_rate"), f(s["edit_accuracy"], ".1%"),
                      f(s["timing_error_median_s"], ".2f"),
                      f(s["timing_error_p95_s"], ".2f"), _with_ci(s, "plan_correct_rate"),
-                     _with_ci(s, "execution_success_rate"), f(s["realtime_factor_watch"], ".1f"),
+                     _with_ci(s, "execution_success_rate"),
+                     f(s.get("verdicts_agree_rate"), ".0%"), f(s["realtime_factor_watch"], ".1f"),
                      f(s["realtime_factor_pipeline"], ".1f"), f(s["pixels_per_frame"], ".0f")))
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows)

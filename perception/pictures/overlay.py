@@ -144,6 +144,25 @@ class ExecutionRecorder:
         self.rendered = 0  # frames drawn (one per period)
         self.next_t: float | None = None
         self.kept: list[tuple[float, np.ndarray]] = []
+        self.monitor: Any = None
+
+    def follow(self, monitor: Any, robot: Any, eyes: Any) -> None:
+        """Show the execution monitor (issue #13): the ACHIEVE and command under way, the
+        blocks of the monitor's last look as windows, its detections and repairs."""
+        self.monitor, self.robot, self.eyes = monitor, robot, eyes
+
+    def _panel(self) -> tuple[str, list[str], list]:
+        """(operation line, panel lines, windows) of the monitor's state now."""
+        mon = self.monitor
+        if mon is None:
+            return "execution", ["robot executing the plan"], []
+        cmd = self.robot.current.text() if self.robot.current is not None else "-"
+        lines = [f"detected: {d['object']} ({d.get('kind', '?')}) after {d['operator']}, "
+                 f"expected {d['expected']}, seen {d['observed']}" for d in mon.detections]
+        lines += [f"repair: {r['operator']} again, {r['commands']} commands"
+                  for r in mon.repairs]
+        return (f"{mon.current or '-'}: {cmd}", lines[-4:] or ["monitor: as expected"],
+                self.eyes.windows)
 
     def __call__(self, world: Any) -> None:
         """Render the world when a period has passed (read only through its scene)."""
@@ -152,8 +171,9 @@ class ExecutionRecorder:
             return
         self.next_t = (world.time if self.next_t is None else self.next_t) + self.period
         views = self.renderer.render(world.scene())
-        image = draw_monitor(views["top"], views["side"], [], ["robot executing the plan"],
-                             "execution", world.time, self.scale)
+        operation, lines, windows = self._panel()
+        image = draw_monitor(views["top"], views["side"], windows, lines, operation,
+                             world.time, self.scale)
         self.out.add(image)
         self.rendered += 1
         if not self.kept or world.time - self.kept[-1][0] >= self.keep_every - 1e-9:

@@ -30,6 +30,7 @@ from typing import Any
 import cv2
 import numpy as np
 
+from perception.pictures.exectimeline import execution_timeline_svg
 from perception.pictures.svgkit import esc
 from perception.pictures.tables import execution_tables
 from perception.pictures.timeline import timeline_legend, timeline_svg
@@ -120,15 +121,19 @@ def _motion(motion_svg: str, motion_legend: str) -> str:
 
 
 def _execution(frames: Frames, mp4: bytes | None,
-               states: Sequence[tuple[str, str, np.ndarray]], ran: bool) -> str:
-    """The robot's work: video, frame strip (robot time) and state pictures."""
+               states: Sequence[tuple[str, str, np.ndarray]], ran: bool,
+               monitor: Mapping[str, Any] | None = None) -> str:
+    """The robot's work: video, frame strip (robot time), the monitor's timeline and
+    state pictures."""
     if not ran:
         return '<section id="execution"><h2>Execution</h2><p>no execution</p></section>'
+    timeline = execution_timeline_svg(monitor) if isinstance(monitor, Mapping) else ""
     figures = "".join(f'<figure id="{esc(key)}"><img src="{jpeg_uri(img, 85)}" alt="{esc(key)}">'
                       f"<figcaption>{esc(caption)}</figcaption></figure>"
                       for key, caption, img in states)
     return ('<section id="execution"><h2>Execution</h2>'
             + video_html("execution-video", mp4, frames) + strip_html("execution-frames", frames)
+            + (f"<h3>Timeline: ACHIEVEs, detections, repairs</h3>{timeline}" if timeline else "")
             + f'<h3>Initial and final state</h3><div id="states">{figures or "<p>none</p>"}'
             "</div></section>")
 
@@ -166,7 +171,8 @@ def render_report(*, title: str, scenario_text: str, actions: dict[str, Any],
         _motion(motion_svg, motion_legend),
         f'<section id="plan"><h2>Plan (Fig. 13 / Fig. 22)</h2>{plan_svg}'
         f'<h3>Plot text</h3><pre id="plan-text">{esc(plan_text or "")}</pre></section>',
-        _execution(execution_frames, execution_mp4, states, execution is not None),
+        _execution(execution_frames, execution_mp4, states, execution is not None,
+                   execution.get("monitor") if execution is not None else None),
         f'<section id="commands"><h2>Commands</h2><pre>{esc(commands_text or "none")}</pre>'
         "</section>",
         _verification(execution),

@@ -113,6 +113,29 @@ class World:
             shape.collision_type = FINGER
             shape.gripper = gripper
 
+    def displace(self, name: str, by: tuple[float, float]) -> None:
+        """Slide a block by (dx, dy) mm (a fault, perception/world/faults.py); riders may fall."""
+        body = self.shapes[name].body
+        x, z = body.position
+        body.position = (x + float(by[0]), z)
+        self.y[name] += float(by[1])
+        self.space.reindex_shapes_for_body(body)
+        self._wake()
+
+    def remove_block(self, name: str) -> None:
+        """Take a block out of the world (a fault); what rested on it falls."""
+        shape = self.shapes.pop(name)
+        self.space.remove(shape.body, shape)
+        self.names.remove(name)
+        del self.sizes[name], self.y[name]
+        self._boxes.pop(name, None)
+        self._wake()
+
+    def _wake(self) -> None:
+        """Wake every block: a support may have gone from under a sleeping one."""
+        for shape in self.shapes.values():
+            shape.body.activate()
+
     # -- the y-extent contact filter (design.md) ------------------------------------
     def _y_range(self, shape: pymunk.Shape) -> tuple[float, float]:
         """y-extent of a block or finger shape."""

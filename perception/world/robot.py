@@ -60,6 +60,7 @@ class Robot:
         self.gripper = world.add_gripper(Gripper(tuple(home), opening=80.0, kind="arm",
                                                  geometry=geometry, y_contacts=True))
         self.log = RobotLog()
+        self.current: Command | None = None
         self._do = {"amove": self.amove, "open-hand": self.open_hand,
                     "close-hand": self.close_hand, "turn-wrist": self.turn_wrist,
                     "push": self.amove}
@@ -68,6 +69,7 @@ class Robot:
     def execute(self, commands: Iterable[Command]) -> RobotLog:
         """Run commands in order."""
         for c in commands:
+            self.current = c  # shown by the execution video
             if c.name not in self._do:
                 raise ValueError(f"the robot has no command '{c.name}'")
             if c.arm is not None:

@@ -18,6 +18,7 @@ from typing import Any
 from lbw_engine.errors import InputError
 from lbw_engine.guard import Place, number, shorten
 from lbw_engine.yamlio import line_of, load_file, loads
+from perception.world.faults import Fault, parse_faults
 from perception.world.layout import Layout, replay
 
 NAME_RE = re.compile(r"[a-z][a-z0-9_-]*\Z")
@@ -106,6 +107,7 @@ class Scenario:
     execute: Workspace | None = None
     file: str = "<string>"
     states: tuple[Layout, ...] = field(default=(), repr=False)  # layout after each step
+    faults: tuple[Fault, ...] = ()  # execute.faults (perception/world/faults.py)
 
 
 class _Ctx:
@@ -162,16 +164,18 @@ def parse(doc: Any, file: str) -> Scenario:
     steps_raw = _steps(cx, teach["demonstration"], teach, teach_ws)
     steps, states = _replay(cx, teach_ws, steps_raw, teach["demonstration"])
     _ends_empty(cx, steps, states, teach["demonstration"])
-    execute = None
+    execute, faults = None, ()
     if "execute" in doc:
         ex = doc["execute"]
         if not isinstance(ex, dict):
             raise cx.fail("must be a mapping with objects", doc, "execute", "execute")
-        _no_unknown(cx, ex, {"objects"}, "execute")
+        _no_unknown(cx, ex, {"objects", "faults"}, "execute")
         if "objects" not in ex:
             raise cx.fail("missing required key 'objects'", ex, None, "execute.objects")
         execute = _workspace(cx, ex["objects"], ex, "execute.objects", shapes)
-    return Scenario(name, seed, shapes, noise, teach_ws, steps, execute, file, states)
+        if "faults" in ex:
+            faults = parse_faults(cx, ex["faults"], ex, execute.objects)
+    return Scenario(name, seed, shapes, noise, teach_ws, steps, execute, file, states, faults)
 
 
 def _no_unknown(cx: _Ctx, mapping: dict, allowed: set[str], where: str) -> None:

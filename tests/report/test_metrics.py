@@ -151,3 +151,14 @@ def test_lbw_bench_rejects_bad_files_before_running(tmp_path, capsys, argv, mess
 def test_lbw_bench_rejects_bad_counts(capsys):
     assert main(["bench", "--count", "0"]) == 2
     assert "--count" in capsys.readouterr().err
+
+
+def test_cameras_against_ground_truth_is_its_own_column():
+    rec = {"level": "a", "exact": True, "accuracy": 1.0, "timing_errors": [],
+           "plan_correct": True, "execution_success": True, "demo_seconds": 1.0,
+           "watch_seconds": 1.0, "total_seconds": 1.0, "pixels_per_frame": 1.0}
+    runs = [dict(rec, verdicts_agree=True)] * 3 + [dict(rec, verdicts_agree=False), rec]
+    s = summarize(runs, ["a"])["a"]
+    assert s["verdicts_agree_rate"] == 0.75  # the run without an execution verdict is left out
+    header, row = format_table({"a": s}).splitlines()
+    assert header.split()[14] == "cams=gt" and row.split()[13] == "75%"

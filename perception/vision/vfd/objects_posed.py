@@ -1,0 +1,264 @@
+"""Finished structures through the cameras: expected poses checked against the images.
+
+The object-finder (objects.py) measures what it sees of each block's top face
+and puts the block's bottom on the highest top face found under it, or on the
+table. In a finished structure that reading is weak in two ways: a support may
+be wholly hidden (the four legs under the plate of Fig. 20; the finder reports
+one column from the table up to the plate's top), and two blocks one behind the
+other on the side camera's line of sight may get each other's heights.
+
+Verification and monitoring know where they expect every block, so they can
+ask the images a narrower question (Sec. VIII, the executed structure against
+the taught one): does the picture agree with this block standing there? Boxes
+are drawn as silhouettes into both views and compared with the non-dark pixels
+(as ``objects_match.SilhouetteCheck`` does for columns, here with real bottoms).
+A found block whose top face lies where an expected block's does (same shape
+footprint, same place) takes the expected pose when that explains the views at
+least as well; an expected block nothing was found for is added when adding it
+does not make the views worse (it is hidden, or the finder missed it). A block
+that is not there adds its whole silhouette to the wrong pixels and is refused.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+
+import cv2
+import numpy as np
+
+from perception.vision.camera import Camera
+from perception.vision.vfd.base import DARK_MAX
+from perception.vision.vfd.objects import FoundObject
+
+GATE_MM = 15.0  # a top face this near an expected block's (in x, y) may be that block
+SIZE_MM = 8.0  # and its footprint this near the block's shape
+TOP_MM = 6.0  # an uncovered block's top face measured this near its expected x, y
+OUTLINE_SHARE = 0.3  # wrong pixels near posed blocks, per pixel of their outlines
+PASSES = 3  # passes over the expected blocks
+WORSE_PX = 12  # more wrong pixels than this is evidence against a pose (edges, noise)
+
+Expected = tuple[str, Sequence[float], Sequence[float]]  # shape, centre, size
+
+
+class Silhouettes:
+    """Wrong pixels of a set of boxes (centre, size) against both views' non-dark masks."""
+
+    def __init__(self, cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray]) -> None:
+        """``images`` holds the ``top`` and ``side`` gray views."""
+        self.cameras = cameras
+        self.solid = {n: (images[n] > DARK_MAX).astype(np.uint8) for n in ("top", "side")}
+
+    def wrong(self, boxes: Sequence[tuple[Sequence[float], Sequence[float]]],
+              within: Sequence[tuple[Sequence[float], Sequence[float]]] | None = None) -> int:
+        """Pixels where the boxes' silhouettes and the views disagree, both views summed;
+        only near the silhouettes of the boxes ``within`` when given."""
+        total = 0
+        for name, actual in self.solid.items():
+            drawn = self._draw(name, boxes, actual.shape)
+            diff = cv2.bitwise_xor(drawn, actual)
+            if within is not None:
+                near = cv2.dilate(self._draw(name, within, actual.shape), np.ones((7, 7), np.uint8))
+                diff = cv2.bitwise_and(diff, near)
+            total += int(cv2.countNonZero(diff))
+        return total
+
+    def outline(self, boxes: Sequence[tuple[Sequence[float], Sequence[float]]]) -> int:
+        """Pixels on the outlines of the boxes' silhouettes, both views summed."""
+        total = 0
+        for name, actual in self.solid.items():
+            drawn = self._draw(name, boxes, actual.shape)
+            total += int(cv2.countNonZero(drawn - cv2.erode(drawn, np.ones((3, 3), np.uint8))))
+        return total
+
+    def _draw(self, name: str, boxes: Sequence[tuple[Sequence[float], Sequence[float]]],
+              shape: tuple[int, ...]) -> np.ndarray:
+        """The boxes' silhouettes in camera ``name``."""
+        drawn = np.zeros(shape, np.uint8)
+        for center, size in boxes:
+            corners = np.array([[center[k] + s * size[k] / 2.0 for k, s in enumerate((a, b, c))]
+                                for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)])
+            uv = self.cameras[name].project(corners)
+            hull = cv2.convexHull(np.rint(uv * 16).astype(np.int32))
+            cv2.fillConvexPoly(drawn, hull, 1, cv2.LINE_8, 4)
+        return drawn
+
+
+def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
+            found: Sequence[FoundObject], expected: Mapping[str, Expected]
+            ) -> tuple[list[FoundObject], dict[str, int], list[str]]:
+    """The finder's blocks with expected poses accepted where the views allow.
+
+    Returns the blocks, the expected names given to some of them (index into
+    the blocks) and the names added although the finder did not report them.
+    A block may replace the finder's reading of it, or the pieces the finder
+    made of it (a ring of a lower block around an upper one, Fig. 14).
+    """
+    check = Silhouettes(cameras, images)
+    boxes: list[FoundObject | None] = list(found)
+    named: dict[str, int] = {}
+
+    def cost() -> int:
+        return check.wrong([(b.position, b.size) for b in boxes if b is not None])
+
+    added: list[str] = []
+    doubtful = [g for g in _structures(expected, cameras)
+                if not _replace_structure(boxes, named, g, expected, check)]
+    for _ in range(PASSES):  # a block's pose may only fit once its neighbours' do
+        before = len(named)
+        _add_hidden(boxes, named, added, expected, cost)
+        _replace(boxes, named, expected, cost)
+        if len(named) == before:
+            break
+    for group in doubtful:  # posed one by one, a structure must still fit as a whole
+        posed = [(boxes[named[n]].position, boxes[named[n]].size) for n in group if n in named]
+        if posed and not _fits(check, boxes, posed, []):
+            for n in [n for n in group if n in added]:  # the hidden ones are least sure
+                boxes[named.pop(n)] = None
+                added.remove(n)
+    keep = [i for i, b in enumerate(boxes) if b is not None]
+    index = {i: k for k, i in enumerate(keep)}
+    return [boxes[i] for i in keep], {n: index[i] for n, i in named.items()}, added
+
+
+def _fits(check: Silhouettes, boxes: list, posed: list, replaced: list) -> bool:
+    """Whether the views agree with the posed boxes near them (and near what they replace)
+    up to a share of their outlines (sub-pixel pose errors flip outline pixels)."""
+    shown = [(b.position, b.size) for b in boxes if b is not None]
+    wrong = check.wrong(shown, within=posed + replaced)
+    return wrong <= OUTLINE_SHARE * check.outline(posed)
+
+
+def _structures(expected: Mapping[str, Expected], cameras: Mapping[str, Camera]
+                ) -> list[list[str]]:
+    """Expected blocks grouped by what the views can tell apart: blocks whose images
+    overlap in either camera (one rests on, or hides, the other), transitively."""
+    names = sorted(expected)
+    rects = {n: [_rect(cam, expected[n][1], expected[n][2]) for cam in cameras.values()]
+             for n in names}
+    group = {n: {n} for n in names}
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            if group[a] is not group[b] and any(
+                    min(ra[2], rb[2]) > max(ra[0], rb[0]) and min(ra[3], rb[3]) > max(ra[1], rb[1])
+                    for ra, rb in zip(rects[a], rects[b], strict=True)):
+                merged = group[a] | group[b]
+                for n in merged:
+                    group[n] = merged
+    out: list[list[str]] = []
+    for g in group.values():
+        if sorted(g) not in out:
+            out.append(sorted(g))
+    return out
+
+
+def _rect(cam: Camera, center: Sequence[float], size: Sequence[float]
+          ) -> tuple[float, float, float, float]:
+    """The image rectangle (u0, v0, u1, v1) around a box's projection."""
+    corners = np.array([[center[k] + s * size[k] / 2.0 for k, s in enumerate((a, b, c))]
+                        for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)])
+    uv = cam.project(corners)
+    return (*uv.min(axis=0), *uv.max(axis=0))
+
+
+def _replace_structure(boxes: list, named: dict[str, int], group: list[str],
+                       expected: Mapping[str, Expected], check: Silhouettes) -> bool:
+    """A whole structure at its expected pose in place of what the finder made of it
+    (a column, rings, swapped heights), where the views agree with it near its
+    silhouettes nearly exactly (a hidden block that moved shows only there)."""
+    parts = sorted({i for n in group for i in _pieces(boxes, [
+        i for i, b in enumerate(boxes) if b is not None and i not in named.values()],
+        expected[n][1], expected[n][2], any_size=True, any_height=True)})
+    was = {i: boxes[i] for i in parts}
+    if not _tops_seen(group, expected, list(was.values())):
+        return False
+    for i in parts:
+        boxes[i] = None
+    first = len(boxes)
+    for n in group:
+        shape, center, size = expected[n]
+        boxes.append(FoundObject(shape, tuple(map(float, center)), tuple(map(float, size)), 0.0))
+    mine = [(b.position, b.size) for b in boxes[first:]]
+    if _fits(check, boxes, mine, [(b.position, b.size) for b in was.values()]):
+        named.update({n: first + k for k, n in enumerate(group)})
+        return True
+    del boxes[first:]
+    for i, b in was.items():
+        boxes[i] = b
+    return False
+
+
+def _tops_seen(group: list[str], expected: Mapping[str, Expected],
+               found: list[FoundObject]) -> bool:
+    """Every block of the group with nothing of the group above it shows its whole top
+    face: the finder must have measured it there (its x, y are sharp, within TOP_MM)."""
+    for n in group:
+        c, size = expected[n][1], expected[n][2]
+        covered = any(m != n and expected[m][1][2] > c[2] and all(
+            abs(expected[m][1][k] - c[k]) < (expected[m][2][k] + size[k]) / 2.0 for k in (0, 1))
+            for m in group)
+        if not covered and not any(abs(f.position[0] - c[0]) <= TOP_MM and
+                                   abs(f.position[1] - c[1]) <= TOP_MM for f in found):
+            return False
+    return True
+
+
+def _add_hidden(boxes: list, named: dict[str, int], added: list[str],
+                expected: Mapping[str, Expected], cost: Callable[[], int]) -> None:
+    """Expected blocks the finder saw nothing of, where adding them leaves the views as
+    well explained (hidden from both cameras) or better."""
+    base = cost()
+    for name, (shape, center, size) in sorted(expected.items()):
+        free = [i for i, b in enumerate(boxes) if b is not None and i not in named.values()]
+        if name in named or _pieces(boxes, free, center, size, any_size=True):
+            continue  # the finder saw something there that is not this block
+        boxes.append(FoundObject(shape, tuple(map(float, center)), tuple(map(float, size)), 0.0))
+        trial = cost()
+        if trial <= base + WORSE_PX:
+            named[name], base = len(boxes) - 1, min(base, trial)
+            added.append(name)
+        else:
+            boxes.pop()
+
+
+def _replace(boxes: list, named: dict[str, int], expected: Mapping[str, Expected],
+             cost: Callable[[], int]) -> None:
+    """One pass: each unnamed expected block takes the place of the finder's reading of
+    it, or of its pieces, where the views agree at least as well."""
+    base = cost()
+    for name, (shape, center, size) in sorted(expected.items()):
+        if name in named:
+            continue
+        posed = FoundObject(shape, tuple(map(float, center)), tuple(map(float, size)), 0.0)
+        free = [i for i, b in enumerate(boxes) if b is not None and i not in named.values()]
+        for parts in (_reading(boxes, free, center, size), _pieces(boxes, free, center, size)):
+            if not parts:
+                continue
+            was = {i: boxes[i] for i in parts}
+            for i in parts:
+                boxes[i] = None
+            boxes[parts[0]] = posed
+            trial = cost()
+            if trial <= base + WORSE_PX:
+                named[name], base = parts[0], min(base, trial)
+                break
+            for i, b in was.items():  # the views disagree: keep the finder's reading
+                boxes[i] = b
+
+
+def _reading(boxes: list, free: list[int], center: Sequence[float],
+             size: Sequence[float]) -> list[int]:
+    """The one found block whose top face is where this block's would be."""
+    return [i for i in free
+            if abs(boxes[i].position[0] - center[0]) <= GATE_MM
+            and abs(boxes[i].position[1] - center[1]) <= GATE_MM
+            and abs(boxes[i].size[0] - size[0]) + abs(boxes[i].size[1] - size[1]) <= SIZE_MM][:1]
+
+
+def _pieces(boxes: list, free: list[int], center: Sequence[float], size: Sequence[float],
+            any_size: bool = False, any_height: bool = False) -> list[int]:
+    """Found blocks within this block's footprint, no larger and not above it: its pieces."""
+    top = center[2] + size[2] / 2.0
+    return [i for i in free
+            if all(abs(boxes[i].position[k] - center[k]) <= size[k] / 2.0 for k in (0, 1))
+            and (any_height or boxes[i].position[2] - boxes[i].size[2] / 2.0 < top - SIZE_MM)
+            and (any_size or all(boxes[i].size[k] <= size[k] + SIZE_MM for k in (0, 1)))]

@@ -1,0 +1,84 @@
+"""The robot watches itself (issue #13): faults are detected, repaired and verified by the cameras.
+
+One run per fault kind (design.md ``execute.faults``), each with a hand-written
+plan of tests/data, and a fault that cannot be repaired (exit 1, the object
+named). The robot is never told about a fault: the injector acts on the world.
+"""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from lbw_engine.cli import main
+from lbw_engine.paths import bundled_scenario
+
+DATA = Path(__file__).resolve().parent.parent / "data"
+
+
+def scenario(tmp_path, name, faults, extra=""):
+    """The bundled scenario ``name`` with faults (and extra execution objects: the bundled
+    scenarios end with their execute.objects)."""
+    text = bundled_scenario(name).read_text().rstrip("\n") + "\n" + extra
+    path = tmp_path / f"{name}-faults.yaml"
+    path.write_text(text + "  faults:\n" + "".join(f"    - {f}\n" for f in faults))
+    return path
+
+
+def execute(tmp_path, name, path, capsys):
+    out = tmp_path / "out"
+    code = main(["execute", str(DATA / f"{name}.plan.json"), str(path), "--out", str(out)])
+    err = capsys.readouterr().err
+    return code, json.loads((out / "execution.json").read_text()), err
+
+
+CASES = [
+    # a brick let go halfway through its transfer lands on the table
+    pytest.param("unstack", ["{during: 1, kind: drop}"], "", "drop", ["achieve01"],
+                 id="drop"),
+    # the tower's base slid away after the first cube was put on it: the cube falls
+    # onto the base's spot, is set aside, the base goes back and the cube on it
+    pytest.param("tower", ["{after: 2, kind: displace, object: s1, by: [-60, 40]}"], "",
+                 "displace", ["achieve02", "achieve01", "achieve02"], id="displace-support"),
+    # a cube taken away after it was stacked: a spare cube replaces it
+    pytest.param("tower", ["{after: 3, kind: remove, object: k2}"],
+                 "    k5: {shape: cube, at: [100, 60]}\n", "remove", ["achieve03"],
+                 id="remove-with-spare"),
+]
+
+
+@pytest.mark.parametrize("name,faults,extra,kind,repaired", CASES)
+def test_fault_is_detected_repaired_and_verified(tmp_path, capsys, name, faults, extra, kind,
+                                                 repaired):
+    path = scenario(tmp_path, name, faults, extra)
+    code, report, err = execute(tmp_path, name, path, capsys)
+    assert code == 0, err
+    assert [f["kind"] for f in report["faults"]] == [kind]
+    detections = report["monitor"]["detections"]
+    assert detections and all(d["t"] >= report["faults"][0]["t"] for d in detections)
+    assert {"operator", "object", "expected", "observed", "t"} <= set(detections[0])
+    assert [r["operator"] for r in report["monitor"]["repairs"]] == repaired
+    assert all(r["commands"] > 0 for r in report["monitor"]["repairs"])
+    assert report["verification"] == {"cameras": True, "ground_truth": True}
+    assert report["success"] is True and report["failure"] is None
+
+
+def test_a_removed_object_without_a_spare_ends_the_run_naming_it(tmp_path, capsys):
+    path = scenario(tmp_path, "unstack", ["{after: 1, kind: remove, object: t}"])
+    code, report, err = execute(tmp_path, "unstack", path, capsys)
+    assert code == 1
+    assert report["success"] is False
+    assert report["failure"] == ("execution: 'top1' (shape brick) is gone and the workspace "
+                                 "has no spare brick to replace it")
+    assert [d["object"] for d in report["monitor"]["detections"]] == ["top1"]
+    assert report["monitor"]["repairs"] == []
+    assert "top1" in err
+
+
+def test_no_detection_without_faults(tmp_path, capsys):
+    code, report, err = execute(tmp_path, "unstack", bundled_scenario("unstack"), capsys)
+    assert code == 0, err
+    assert report["monitor"]["detections"] == [] and report["monitor"]["repairs"] == []
+    assert [u["operator"] for u in report["monitor"]["units"]] == ["achieve01"]
+    assert report["faults"] == []
+    assert report["verification"] == {"cameras": True, "ground_truth": True}

@@ -1,0 +1,42 @@
+"""lbw bench --faults: the issue's figures from per-run records (issue #13)."""
+
+from lbw_engine.cli.bench_faults import format_faults, summarize_faults
+
+
+def run(kind, faults, success, detections=(), repairable=True, failure=None,
+        cams=True, truth=True):
+    return {"seed": 1, "level": "nominal", "kind": kind, "faults": list(faults),
+            "success": success, "detections": list(detections), "repairable": repairable,
+            "failure": failure, "verification": {"cameras": cams, "ground_truth": truth}}
+
+
+def fault(kind, detected, relevant=True):
+    return {"kind": kind, "t": 5.0, "detected": detected, "relevant": relevant}
+
+
+RECORDS = [
+    run("none", [], True),
+    run("none", [], True, detections=[{"t": 3.0}]),
+    run("drop", [fault("drop", True)], True, [{"t": 6.0}]),
+    run("displace", [fault("displace", False, relevant=False)], True),
+    run("remove", [fault("remove", True)], False, [{"t": 6.0}], repairable=False,
+        failure="execution: 'p' (shape plate) is gone and the workspace has no spare plate "
+                "to replace it", cams=False, truth=False),
+    run("drop+displace", [fault("drop", True), fault("displace", False)], False, [{"t": 6.0}],
+        failure="verification: ...", cams=False, truth=True),
+    {"seed": 2, "level": "nominal", "kind": "none", "error": "boom"},
+]
+
+
+def test_figures():
+    s = summarize_faults(RECORDS)
+    assert (s["runs"], s["crashed"]) == (7, 1)
+    assert (s["fault_free_without_detection"], s["fault_free_runs"]) == (1, 2)
+    assert (s["faults_detected"], s["faults_injected"]) == (3, 4)
+    assert s["faults_on_unused_objects"] == 1
+    assert (s["faulty_runs"], s["repairable_runs"], s["repairable_repaired"]) == (3, 2, 1)
+    assert (s["unrepaired_runs"], s["unrepaired_with_reason"]) == (2, 2)
+    assert (s["verdicts_agree"], s["verdict_runs"]) == (5, 6)
+    text = format_faults(s)
+    assert "faults detected:                3/4 (75%) (+1 on objects the plan does not use)" in text
+    assert "cameras agree with the truth:   5/6 (83%)" in text

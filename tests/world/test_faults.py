@@ -1,0 +1,116 @@
+"""execute.faults (design.md "Scenario file"): strict loading, and the world-side injection."""
+
+import pytest
+
+from lbw_engine.errors import InputError
+from perception.world.faults import Fault, FaultInjector
+from perception.world.physics import World
+from perception.world.scenario import load_text
+
+HEAD = """\
+name: t
+shapes:
+  brick: [30, 30, 50]
+  plank: [160, 60, 20]
+teach:
+  objects:
+    a: {shape: brick, at: [-100, 100]}
+  demonstration:
+    - pick: a
+    - place: a
+      on: table
+      at: [0, 150]
+execute:
+  objects:
+    x: {shape: brick, at: [-100, 100]}
+    p: {shape: plank, at: [100, 300]}
+    y: {shape: brick, at: [60, 300], on: p}
+"""
+LINE = HEAD.count("\n") + 2  # the line of the first fault
+
+
+def _faults(*items: str) -> str:
+    return HEAD + "  faults:\n" + "".join(f"    - {i}\n" for i in items)
+
+
+def test_the_three_kinds_load_in_order():
+    sc = load_text(_faults("{during: 2, kind: drop}",
+                           "{after: 3, kind: displace, object: x, by: [60, -20]}",
+                           "{after: 4, kind: remove, object: p}"), "f.yaml")
+    assert sc.faults == (Fault("drop", 2, None, (0.0, 0.0), LINE),
+                         Fault("displace", 3, "x", (60.0, -20.0), LINE + 1),
+                         Fault("remove", 4, "p", (0.0, 0.0), LINE + 2))
+    assert load_text(HEAD, "f.yaml").faults == ()
+
+
+# (case id, fault items, key path, message fragment)
+ROWS = [
+    ("unknown-kind", ["{after: 1, kind: melt, object: x}"], "execute.faults[0].kind",
+     "unknown fault kind"),
+    ("drop-with-after", ["{after: 1, kind: drop}"], "execute.faults[0].after",
+     "unknown key 'after' for a drop fault"),
+    ("displace-without-by", ["{after: 1, kind: displace, object: x}"], "execute.faults[0].by",
+     "a displace fault needs 'by'"),
+    ("remove-unknown-object", ["{after: 1, kind: remove, object: nope}"],
+     "execute.faults[0].object", "unknown object 'nope'"),
+    ("count-zero", ["{during: 0, kind: drop}"], "execute.faults[0].during",
+     "an ACHIEVE count from 1"),
+    ("count-not-integer", ["{during: 1.5, kind: drop}"], "execute.faults[0].during",
+     "an ACHIEVE count from 1"),
+    ("by-too-far", ["{after: 1, kind: displace, object: x, by: [900, 0]}"],
+     "execute.faults[0].by[0]", "900"),
+    ("by-one-number", ["{after: 1, kind: displace, object: x, by: [9]}"],
+     "execute.faults[0].by", "a list of 2 numbers"),
+    ("no-kind", ["{after: 1, object: x}"], "execute.faults[0]", "with 'kind'"),
+    ("second-bad", ["{during: 1, kind: drop}", "{after: 1, kind: remove}"],
+     "execute.faults[1].object", "a remove fault needs 'object'"),
+]
+
+
+@pytest.mark.parametrize("items,where,fragment", [r[1:] for r in ROWS], ids=[r[0] for r in ROWS])
+def test_bad_fault_is_reported_with_its_place(items, where, fragment):
+    with pytest.raises(InputError) as info:
+        load_text(_faults(*items), "bad.yaml")
+    err = info.value
+    assert (err.file, err.where) == ("bad.yaml", where)
+    assert fragment in err.message
+    assert err.line in (LINE, LINE + 1)
+
+
+def test_faults_must_be_a_list():
+    with pytest.raises(InputError) as info:
+        load_text(HEAD + "  faults: {during: 1}\n", "bad.yaml")
+    assert info.value.where == "execute.faults" and info.value.line == LINE - 1
+
+
+def _world():
+    sc = load_text(HEAD, "f.yaml")
+    world = World(sc.execute.objects.values())
+    world.settle(0.3)
+    return world
+
+
+def test_displacing_a_support_lets_its_rider_fall():
+    world = _world()
+    x0 = world.positions()["p"][0]
+    assert world.supports()["y"] == ("p",)
+    inj = FaultInjector(world, (Fault("displace", 1, "p", (-80.0, 60.0)),), {"p": "p"})
+    inj.begin(1)
+    t = world.time
+    inj.end(1)
+    world.settle(1.5)
+    assert world.y["p"] == 360.0 and world.positions()["p"][0] == pytest.approx(x0 - 80.0, abs=1)
+    assert world.supports()["y"] == ("table",)  # it fell off the plank slid from under it
+    assert inj.injected == [{"kind": "displace", "achieve": 1, "t": round(t, 2), "object": "p"}]
+
+
+def test_removing_an_object_takes_it_out_of_the_world():
+    world = _world()
+    inj = FaultInjector(world, (Fault("remove", 2, "x"),), {"x": "x"})
+    inj.begin(1)
+    inj.end(1)
+    assert "x" in world.names  # tied to the 2nd ACHIEVE, not the 1st
+    inj.begin(2)
+    inj.end(2)
+    assert "x" not in world.names and "x" not in world.positions()
+    assert [f["kind"] for f in inj.injected] == ["remove"]
