@@ -38,6 +38,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from lbw_engine.cli.benchset import LEVELS, parse_families, tasks  # noqa: F401 (re-exported)
 from lbw_engine.cli.cluster import executor, local_workers
 from lbw_engine.errors import InputError
 from lbw_engine.outputs import OutputDir, atomic_write_text, to_json
@@ -54,7 +55,6 @@ HELP = "benchmark watch → analyze → execute on seeded random scenarios at th
 EXIT_CODES = ("0 the benchmark ran (failing scenarios are findings, not errors: the "
               "figures count them); 2 bad input (one line: place, what is wrong), also when "
               "--cluster cannot be used; 3 internal error")
-LEVELS = ("nominal", "2x", "4x")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -78,9 +78,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="keep the records that a stopped run of the same command left in "
                              "the records FILE.partial, and run only the other scenarios")
     parser.add_argument("--rules", metavar="DIR", help="rule folder (default: bundled rules/)")
-    parser.add_argument("--families", metavar="NAME[,NAME]",
-                        help="scenario families to draw from, in turn (default: all; "
-                             "perception.world.generator.FAMILIES; with --faults: classic)")
+    parser.add_argument("--families", metavar="NAMES",
+                        help="comma-separated scenario families to draw from, in turn "
+                             "(default: all, perception.world.generator.FAMILIES; "
+                             "with --faults: classic)")
     parser.add_argument("--faults", action="store_true",
                         help="execute each learned plan without and with injected faults "
                              "(drop, displace, remove; issue #13) and report detection, "
@@ -88,29 +89,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--scenarios", metavar="DIR",
                         help="also write each generated scenario as DIR/gen-SEED-LEVEL.yaml "
                              "(to rerun a failing case with lbw run)")
-
-
-def tasks(count: int, seed: int, families: Sequence[str] | None = None
-          ) -> list[tuple[int, str, str]]:
-    """(generator seed, noise level, family) of each scenario of the set."""
-    from perception.world.generator import FAMILIES, family_of
-
-    fams = tuple(families or FAMILIES)
-    return [(seed * 1000 + i, LEVELS[i % len(LEVELS)], family_of(i, fams)) for i in range(count)]
-
-
-def parse_families(text: str | None) -> tuple[str, ...] | None:
-    """``--families a,b``: known family names, in the order given (InputError if not)."""
-    if text is None:
-        return None
-    from perception.world.generator import FAMILIES
-
-    names = tuple(n.strip() for n in text.split(",") if n.strip())
-    unknown = [n for n in names if n not in FAMILIES]
-    if unknown or not names:
-        raise InputError(f"unknown family {', '.join(unknown) or '(none given)'} "
-                         f"(families: {', '.join(FAMILIES)})", where="--families")
-    return names
 
 
 _RULES: dict[Any, tuple] = {}
