@@ -59,7 +59,7 @@ class Segment:
     p0: Vec3
     p1: Vec3
     arc: float = 0.0  # mm added to z at mid-path (transfers go high over the table)
-    action: tuple = ()  # ("open", width) | ("close",) | ("present", bool), at t0
+    action: tuple = ()  # ("open", width) | ("close",) | ("present", bool) | ("turn", axis)
     quiet: bool = False  # tremor reduced (fine motions)
     lateral: str = ""  # "early": sideways part done first (approach), "late": last (depart)
 
@@ -264,7 +264,7 @@ class Demonstration:
             yield t, self.world.scene()
 
     def _act(self, action: tuple) -> None:
-        """Run a segment's hand actions (open/close/appear/disappear)."""
+        """Run a segment's hand actions (open/close/turn/appear/disappear)."""
         k = 0
         while k < len(action):
             if action[k] == "open":
