@@ -32,6 +32,7 @@ from perception.world.hand import Gripper, grasp_offset, pre_shape
 from perception.world.layout import Layout
 from perception.world.physics import World
 from perception.world.scene import Box
+from perception.world.wrist import hold_axis, slide_path
 
 Vec3 = tuple[float, float, float]
 
@@ -43,7 +44,6 @@ NEAR_LIMIT = 160.0  # mm: approach start above the target's top (visual search r
 ENTRY = (-480.0, 200.0, 230.0)  # off the table, where the hand comes from and goes to
 ABSENT = 1.0  # s without the hand at the start and the end (initial/final state views)
 MAX_Z = 285.0  # mm: the hand stays within the cameras' view (z <= 300)
-CONTACT_GAP = 0.3  # mm left between blocks after an align slide toward another block
 HOVER = -0.1  # mm: a placed block is let go just touching (the contact slop), no drop
 QUIET = 0.1  # tremor scale during fine motions: the fingers do not shake blocks into others
 
@@ -59,7 +59,7 @@ class Segment:
     p0: Vec3
     p1: Vec3
     arc: float = 0.0  # mm added to z at mid-path (transfers go high over the table)
-    action: tuple = ()  # ("open", width) | ("close",) | ("present", bool), at t0
+    action: tuple = ()  # ("open", width) | ("close",) | ("present", bool) | ("turn", axis)
     quiet: bool = False  # tremor reduced (fine motions)
     lateral: str = ""  # "early": sideways part done first (approach), "late": last (depart)
 
@@ -84,6 +84,17 @@ class _Planner:
         self.t, self.p = ABSENT, ENTRY
         self.segs: list[Segment] = [Segment("absent", -1, 0.0, ABSENT, ENTRY, ENTRY)]
         self.pending: tuple = ("present", True)
+        self.axis = 0  # the jaws close along x until a hold needs y (the hand starts so)
+
+    def wrist(self, i: int, size: Vec3) -> tuple:
+        """Pre-shape actions for the pick or touch at step ``i``: turn the wrist (empty
+        hand, during the transfer) when the other side has room and this one has not
+        (perception.world.wrist), then open the fingers for the block."""
+        axis = hold_axis(self.sc, i)
+        turn: tuple = ()
+        if axis is not None and axis != self.axis:
+            turn, self.axis = ("turn", axis), axis
+        return turn + ("open", pre_shape(size, axis=self.axis))
 
     def factor(self) -> float:
         """Random speed factor of one motion (noise.speed)."""
@@ -154,7 +165,7 @@ class _Planner:
                 c = lay.center[step.obj]
                 grip = _add(c, (0, 0, grasp_offset(size)))
                 fine = [("fine", grip, 1.0, ("close",) if step.kind == "pick" else (), 0.6)]
-                self.local(i, grip, c[2] + size[2] / 2, top, ("open", pre_shape(size)), fine)
+                self.local(i, grip, c[2] + size[2] / 2, top, self.wrist(i, size), fine)
                 held_dz = grasp_offset(size)
             else:
                 grip = _add(step.dest, (0, 0, held_dz + HOVER))
@@ -162,11 +173,11 @@ class _Planner:
                 carried = top + size[2] + 20.0
                 fine = []
                 if step.align is not None:
-                    for point in _slide_path(lay, step):
+                    for point in slide_path(lay, step):
                         fine.append(("fine", _add(point, (0, 0, held_dz + HOVER)), V_SLIDE, (),
                                      0.5))
                 fine.append(("fine", fine[-1][1] if fine else grip, 1.0,
-                             ("open", pre_shape(size)), 0.6))
+                             ("open", pre_shape(size, axis=self.axis)), 0.6))
                 self.local(i, grip, support_top, carried, (), fine)
             lay = self.sc.states[i]
         exit_point = (math.copysign(480.0, self.p[0] or 1.0), self.p[1], 230.0)
@@ -178,19 +189,6 @@ class _Planner:
 def _scene_top(lay: Layout) -> float:
     """Height of the tallest box top (mm)."""
     return max((c[2] + lay.size[n][2] / 2 for n, c in lay.center.items()), default=0.0)
-
-
-def _slide_path(lay: Layout, step) -> list[Vec3]:
-    """Align slide (Sec. V-B5): into contact with ``with``, then along it until coplanar."""
-    final, dest = step.final, step.dest
-    w = lay.center[step.align.with_]
-    contact_axis = 0 if step.align.face in ("north", "south") else 1
-    side = 1.0 if final[contact_axis] >= w[contact_axis] else -1.0
-    touching = list(dest)
-    touching[contact_axis] = final[contact_axis] + side * CONTACT_GAP
-    last = list(final)
-    last[contact_axis] = touching[contact_axis]
-    return [tuple(touching), tuple(last)]
 
 
 class Demonstration:
@@ -266,7 +264,7 @@ class Demonstration:
             yield t, self.world.scene()
 
     def _act(self, action: tuple) -> None:
-        """Run a segment's hand actions (open/close/appear/disappear)."""
+        """Run a segment's hand actions (open/close/turn/appear/disappear)."""
         k = 0
         while k < len(action):
             if action[k] == "open":
@@ -275,6 +273,9 @@ class Demonstration:
             elif action[k] == "close":
                 self.hand.close()
                 k += 1
+            elif action[k] == "turn":
+                self.hand.turn(action[k + 1])
+                k += 2
             else:  # "present": the hand comes into / goes out of the workspace
                 self.hand.present = action[k + 1]
                 k += 2

@@ -65,10 +65,11 @@ def grasp_offset(size: Vec3) -> float:
     return max(h / 2 - min(h / 2, 30.0), TIP + 1.0 - h / 2)
 
 
-def pre_shape(size: Vec3, geometry: GripperGeometry | None = None) -> float:
-    """Finger opening used when approaching a block of this size."""
+def pre_shape(size: Vec3, geometry: GripperGeometry | None = None, axis: int = 0) -> float:
+    """Finger opening used when approaching a block of this size (jaws closing along
+    ``axis``)."""
     g = geometry or GripperGeometry()
-    return min(g.max_opening, size[0] + 2 * CLEARANCE)
+    return min(g.max_opening, size[axis] + 2 * CLEARANCE)
 
 
 class Gripper:

@@ -9,7 +9,6 @@ from lbw_engine.cli.bench import LEVELS, tasks
 from lbw_engine.report.families import format_families, summarize_families
 from lbw_engine.report.metrics import wilson
 from perception.world.generator import FAMILIES, distinguishable, family_of, generate, stands
-from perception.world.generator.families import HAND_X
 from perception.world.scenario import load_text
 
 SEEDS = (0, 1, 2)
@@ -83,14 +82,20 @@ def test_family_scenario_is_valid_and_of_its_class(family, seed):
         sorted(o.shape for o in sc.execute.objects.values())
 
 
-def test_tight_gaps_run_along_y_only_and_rows_run_along_both_axes():
-    """The demonstrator's hand closes along x: x gaps keep HAND_X; y gaps go down to 0."""
+def test_tight_gaps_run_along_both_axes_and_rows_run_along_both_axes():
+    """The demonstrator's wrist turns (perception.world.wrist): 0-10 mm gaps along x too."""
     gaps = [g for s in range(12) for g in _neighbour_gaps(generate(s, family="gaps").scenario())]
     assert min(g for axis, g in gaps if axis == 1) <= 2
-    assert min(g for axis, g in gaps if axis == 0) >= HAND_X
+    assert min(g for axis, g in gaps if axis == 0) <= 2
     axes = {axis for s in range(12) for axis, _ in
             _neighbour_gaps(generate(s, family="axis").scenario())}
     assert axes == {0, 1}
+
+
+def test_align_slides_onto_every_face():
+    faces = {s.align.face for seed in range(12) for s in _steps(generate(seed, family="align")
+                                                                 .scenario()) if s.align}
+    assert faces == {"north", "south", "east", "west"}
 
 
 @pytest.mark.parametrize("family", [f for f in FAMILIES if f != "classic"])

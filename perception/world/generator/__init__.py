@@ -39,9 +39,9 @@ from perception.world.generator.classic import (
     free_spot,
 )
 from perception.world.generator.classic import generate as _classic
-from perception.world.generator.families import FAMILY_BUILDERS, HAND_X, SIMULATED
-from perception.world.hand import GripperGeometry
+from perception.world.generator.families import FAMILY_BUILDERS, SIMULATED
 from perception.world.scenario import Scenario, load_text
+from perception.world.wrist import hold_axis
 
 __all__ = ["BUILDERS", "CATALOGUE", "FAMILIES", "LEVELS", "Generated", "distinguishable",
            "family_of", "footprint", "free_spot", "generate"]
@@ -122,24 +122,10 @@ def stands(sc: Scenario, tolerance: float = 3.0) -> bool:
 
 
 def _hand_room(sc: Scenario) -> bool:
-    """Does the demonstrator's hand fit beside every box it sets down?
+    """Does the demonstrator's hand fit beside every box it takes, along x or along y?
 
-    The hand closes along x (perception.world.hand): its fingers (HAND.finger deep in y)
-    hang beside the box's x faces, so a box in their y and z range within HAND_X of
-    the box's x faces would be knocked.
+    The person turns the wrist (perception.world.wrist): each hold needs one closing
+    axis whose fingers have room at the pick, the place and any align slide.
     """
-    depth = GripperGeometry().finger[1] / 2
-    for i, step in enumerate(sc.demonstration):
-        if step.kind != "place":
-            continue
-        lay = sc.states[i]
-        (x0, x1), (_, _), (z0, z1) = lay.bounds(step.obj)
-        y = lay.center[step.obj][1]
-        moving = {step.obj, *lay.riders(step.obj)}
-        for other in lay.center:
-            (a0, a1), (b0, b1), (c0, c1) = lay.bounds(other)
-            if other in moving or b1 <= y - depth or b0 >= y + depth or c1 <= z0 or c0 >= z1:
-                continue
-            if a1 > x0 - HAND_X and a0 < x1 + HAND_X:
-                return False
-    return True
+    return all(hold_axis(sc, i) is not None
+               for i, step in enumerate(sc.demonstration) if step.kind != "place")

@@ -33,9 +33,6 @@ import numpy as np
 from perception.world.generator.classic import CATALOGUE
 from perception.world.generator.pieces import Piece
 
-# mm: the human hand's finger (10) and its opening clearance (12) between x-neighbours,
-# with slack (perception.world.hand); a place into a narrower x gap knocks the neighbour.
-HAND_X = 24
 CUBE = CATALOGUE["cube"]
 BRICK = CATALOGUE["brick"]
 
@@ -45,18 +42,11 @@ def _ri(rng: np.random.Generator, lo: int, hi: int) -> int:
     return int(rng.integers(lo, hi + 1))
 
 
-def _gap(lo: int, hi: int, along_x: bool) -> tuple[int, int]:
-    """Gap range between neighbours of a row: as asked along y; along x at least HAND_X,
-    since the demonstrator's fingers close along x and must fit between them."""
-    return (max(lo, HAND_X), max(hi, HAND_X + min(hi - lo, 6))) if along_x else (lo, hi)
-
-
 def _row(p: Piece, rng: np.random.Generator, tag: str, n: int, shape: tuple[str, tuple],
-         gaps: tuple[int, int], along_x: bool, x: float = 0.0) -> list[str]:
+         gaps: tuple[int, int], x: float = 0.0) -> list[str]:
     """``n`` boxes in a row along y at x, gaps drawn in ``gaps``, put down in random order
-    (``along_x``: the row will be turned along x)."""
+    (the caller may turn the row along x: the demonstrator's wrist turns to fit)."""
     size = shape[1]
-    gaps = _gap(*gaps, along_x)
     ys, y = [], 0.0
     for k in range(n):
         ys.append(y)
@@ -73,9 +63,9 @@ def axis(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
     kind = str(rng.choice(["row", "pyramid", "arch", "table"]))
     p = Piece(f"{kind}")
     if kind == "row":
-        _row(p, rng, f"{tag}-c", _ri(rng, 2, 4), ("cube", CUBE), (4, 10), along_x)
+        _row(p, rng, f"{tag}-c", _ri(rng, 2, 4), ("cube", CUBE), (4, 10))
     elif kind == "pyramid":
-        below = _row(p, rng, f"{tag}-c", _ri(rng, 2, 3), ("cube", CUBE), (4, 10), along_x)
+        below = _row(p, rng, f"{tag}-c", _ri(rng, 2, 3), ("cube", CUBE), (4, 10))
         k = len(below)
         while len(below) > 1:
             above = []
@@ -86,7 +76,7 @@ def axis(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
             below = [n for _, n in sorted(above)]
     elif kind == "arch":
         d = _ri(rng, 30, 40) * 2
-        legs = _row(p, rng, f"{tag}-pillar", 2, ("brick", BRICK), (d - 30, d - 30), along_x)
+        legs = _row(p, rng, f"{tag}-pillar", 2, ("brick", BRICK), (d - 30, d - 30))
         p.put(f"{tag}-beam", legs, shape=("beam", (40, 130, 20)))
     else:
         _legs_and_top(p, rng, tag, [(-1, -1), (-1, 1), (1, 1), (1, -1)])
@@ -108,14 +98,13 @@ def gaps(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
     """A row (maybe with a cube across one gap) or a 2x2 grid (maybe with a plate on it)."""
     if rng.random() < 0.5:
         p = Piece("gap-row")
-        row = _row(p, rng, f"{tag}-c", _ri(rng, 2, 3), ("cube", CUBE), (0, 10), along_x)
+        row = _row(p, rng, f"{tag}-c", _ri(rng, 2, 3), ("cube", CUBE), (0, 10))
         if rng.random() < 0.6:
             j = _ri(rng, 0, len(row) - 2)
             p.put(f"{tag}-across", [row[j], row[j + 1]], shape=("block", CATALOGUE["block"]))
         return p
     p = Piece("gap-grid")
-    # canonical x becomes y when the grid is turned: the tight gap is the one along y then
-    gx, gy = _ri(rng, *_gap(0, 10, not along_x)), _ri(rng, *_gap(0, 10, along_x))
+    gx, gy = _ri(rng, 0, 10), _ri(rng, 0, 10)
     px, py = (CUBE[0] + gx) / 2, (CUBE[1] + gy) / 2
     cells = [(-px, -py), (-px, py), (px, py), (px, -py)]
     names = []
@@ -135,9 +124,9 @@ def align(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
     movers = [("cube", CUBE), ("brick", BRICK)]
     for k in range(_ri(rng, 1, 2)):
         shape = movers[int(rng.integers(len(movers)))]
-        # east or west faces: the blocks touch across y. Touching across x (north, south)
-        # would put the demonstrator's finger between them (HAND_X); partial, see docs.
-        face = str(rng.choice(["east", "west"]))
+        # any face: the demonstrator's fingers close across the side that stays free
+        # (perception.world.wrist), so blocks may touch across x as well as y
+        face = str(rng.choice(["north", "south", "east", "west"]))
         contact = 0 if face in ("north", "south") else 1  # the axis they touch across
         side = 1 if rng.random() < 0.5 else -1
         if k == 1 and (contact, side) == p.achieves[-1]["_side"]:
@@ -165,7 +154,7 @@ def small(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
             p.put(f"{tag}-s{k + 1}", below, (0, 0) if below == "table" else None, shape=shape)
             below = f"{tag}-s{k + 1}"
     elif kind == "row":
-        _row(p, rng, f"{tag}-s", _ri(rng, 2, 3), shape, (4, 10), along_x)
+        _row(p, rng, f"{tag}-s", _ri(rng, 2, 3), shape, (4, 10))
     else:
         p.put(f"{tag}-cube", "table", (0, 0), shape=("cube", CUBE))
         p.put(f"{tag}-s1", f"{tag}-cube", shape=shape)
@@ -176,7 +165,7 @@ def pillars(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
     """Two or three tall thin pillars standing in a row, 10-40 mm apart."""
     w, h = _ri(rng, 12, 18), _ri(rng, 110, 120)
     p = Piece("pillars")
-    _row(p, rng, f"{tag}-p", _ri(rng, 2, 3), ("pillar", (w, w, h)), (10, 40), along_x)
+    _row(p, rng, f"{tag}-p", _ri(rng, 2, 3), ("pillar", (w, w, h)), (10, 40))
     return p
 
 
@@ -186,7 +175,7 @@ def beams(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
     long_, cross = ("beam-long", (30, 180, 20)), ("beam-cross", (180, 30, 20))
     if rng.random() < 0.5:
         d = _ri(rng, 50, 70) * 2
-        legs = _row(p, rng, f"{tag}-leg", 2, ("brick", BRICK), (d - 30, d - 30), along_x)
+        legs = _row(p, rng, f"{tag}-leg", 2, ("brick", BRICK), (d - 30, d - 30))
         p.put(f"{tag}-beam1", legs, shape=long_)
     else:
         p.put(f"{tag}-beam1", "table", (0, 0), shape=long_)
@@ -217,7 +206,7 @@ def three_supports(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
     if rng.random() < 0.5:
         _legs_and_top(p, rng, tag, [(-1, -1), (-1, 1), (1, 0)])
     else:
-        legs = _row(p, rng, f"{tag}-leg", 3, ("brick", BRICK), (8, 14), along_x)
+        legs = _row(p, rng, f"{tag}-leg", 3, ("brick", BRICK), (8, 14))
         p.put(f"{tag}-top", legs, shape=("plate", (100, 120, 10)))
     return p
 

@@ -1,0 +1,58 @@
+"""The demonstrator turns its wrist (issue #12): the person's fingers close along y where a
+neighbour along x leaves them no room, at the pick, the place or an ALIGN slide."""
+
+import math
+from pathlib import Path
+
+import pytest
+
+from perception.world.demonstrator import Demonstration
+from perception.world.scenario import load
+from perception.world.wrist import hold_axis
+
+ROOT = Path(__file__).resolve().parents[2]
+WRIST_TURN = ROOT / "tests" / "recognition" / "data" / "wrist-turn.yaml"
+
+# tests/recognition/data/wrist-turn.yaml, per pick: the axis the fingers close along
+# (0: x, 1: y) and why.
+AXES = [
+    ("c1", 0, "nothing near c1, at the pick or the place"),
+    ("c2", 1, "set down 4 mm east of c1: an x finger would go between them"),
+    ("c3", 0, "on top of the row: the fingertips stay above c1 and c2"),
+    ("s1", 0, "nothing near s1"),
+    ("s2", 1, "set down 15 mm east of s1 and slid into contact across x (north ALIGN)"),
+]
+
+
+@pytest.fixture(scope="module")
+def wrist_turn():
+    sc = load(WRIST_TURN)
+    demo = Demonstration(sc)
+    axes = {}
+    for _ in demo:
+        if demo.hand.holding is not None:
+            axes.setdefault(demo.hand.holding, demo.hand.axis)
+    return sc, demo, axes
+
+
+@pytest.mark.parametrize(("obj", "axis", "why"), AXES, ids=[a[0] for a in AXES])
+def test_fingers_close_along_the_free_side(wrist_turn, obj, axis, why):
+    sc, _, held_along = wrist_turn
+    i = next(k for k, s in enumerate(sc.demonstration) if s.kind == "pick" and s.obj == obj)
+    assert hold_axis(sc, i) == axis, why
+    assert held_along[obj] == axis, why
+
+
+def test_demonstration_leaves_every_block_where_the_states_say(wrist_turn):
+    sc, demo, _ = wrist_turn
+    demo.world.settle(0.5)
+    off = {n: math.dist(c, sc.states[-1].center[n]) for n, c in demo.world.positions().items()}
+    assert max(off.values()) < 2.0, off
+
+
+@pytest.mark.parametrize("name", sorted(p.stem for p in (ROOT / "scenarios").glob("*.yaml")))
+def test_bundled_demonstrations_keep_the_fingers_along_x(name):
+    # x wins where both sides are free: the bundled demonstrations are unchanged
+    sc = load(ROOT / "scenarios" / f"{name}.yaml")
+    picks = [i for i, s in enumerate(sc.demonstration) if s.kind != "place"]
+    assert [hold_axis(sc, i) for i in picks] == [0] * len(picks)
