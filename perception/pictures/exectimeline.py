@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from perception.pictures.svgkit import esc, text_fits
+from perception.pictures.svgkit import esc, text_fits, time_ticks
 
 ROW_H, LABEL_W, PX_PER_S, TICK_S = 26, 110, 6.0, 10
 DETECT_COLOR, REPAIR_COLOR, UNIT_COLOR = "#d62728", "#ff7f0e", "#4c72b0"
@@ -48,9 +48,6 @@ def execution_timeline_svg(monitor: Mapping[str, Any]) -> str:
         out.append(f'<g class="{css}" data-info="{esc(info)}"><title>{esc(info)}</title>'
                    f'<line x1="{x:.1f}" y1="{ROW_H + 8}" x2="{x:.1f}" y2="{2 * ROW_H + 6}" '
                    f'stroke="{color}" stroke-width="3"/></g>')
-    for s in range(0, int(t_max) + 1, TICK_S):
-        x = LABEL_W + s * PX_PER_S
-        out.append(f'<line x1="{x}" y1="{2 * ROW_H + 12}" x2="{x}" y2="{2 * ROW_H + 17}" '
-                   f'stroke="#555"/><text x="{x + 2}" y="{2 * ROW_H + 28}">{s}s</text>')
+    out.extend(time_ticks(t_max, LABEL_W, PX_PER_S, 2 * ROW_H + 12, TICK_S))
     out.append("</svg>")
     return "\n".join(out)

@@ -34,3 +34,13 @@ def legend(items: Sequence[tuple[str, str]], ident: str, title: str = "") -> str
 def text_fits(text: str, width: float, px_per_char: float = 6.2) -> bool:
     """Whether ``text`` in the pictures' 10 px monospace fits in ``width`` px."""
     return width >= px_per_char * len(text) + 4
+
+
+def time_ticks(t_max: float, x0: float, px_per_s: float, y: float, every_s: int) -> list[str]:
+    """A time axis under a timeline: a tick and its label every ``every_s`` seconds."""
+    out = []
+    for s in range(0, int(t_max) + 1, every_s):
+        x = x0 + s * px_per_s
+        out.append(f'<line x1="{x}" y1="{y}" x2="{x}" y2="{y + 5}" '
+                   f'stroke="#555"/><text x="{x + 2}" y="{y + 16}">{s}s</text>')
+    return out

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from perception.pictures.svgkit import colors, esc, legend, text_fits
+from perception.pictures.svgkit import colors, esc, legend, text_fits, time_ticks
 
 ROW_H, LABEL_W, PX_PER_S, TICK_S = 26, 110, 8.0, 10
 ROWS = (("ground truth", "truth"), ("recognized", "recognized"))
@@ -58,10 +58,7 @@ def timeline_svg(truth: list[dict[str, Any]], ops: list[dict[str, Any]]) -> str:
             if text_fits(name, w):
                 out.append(f'<text x="{x + 2:.1f}" y="{y + 16}" fill="white">{esc(name)}</text>')
             out.append("</g>")
-    for s in range(0, int(t_max) + 1, TICK_S):
-        x = LABEL_W + s * PX_PER_S
-        out.append(f'<line x1="{x}" y1="{2 * ROW_H + 10}" x2="{x}" y2="{2 * ROW_H + 15}" '
-                   f'stroke="#555"/><text x="{x + 2}" y="{2 * ROW_H + 26}">{s}s</text>')
+    out.extend(time_ticks(t_max, LABEL_W, PX_PER_S, 2 * ROW_H + 10, TICK_S))
     out.append("</svg>")
     return "\n".join(out)
 
