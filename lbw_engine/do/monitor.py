@@ -24,7 +24,7 @@ from lbw_engine.do.tracing import TracedOp
 from lbw_engine.do.verification import ObjectState
 from lbw_engine.errors import TaskFailed
 from lbw_engine.model.env import Body, EnvModel
-from lbw_engine.model.geometry import TABLE, Vec
+from lbw_engine.model.geometry import TABLE, Vec, footprints_meet
 from lbw_engine.rules import RuleSet
 
 UNIT_CLASS = "ACHIEVE"  # plan.json's class of the operator a unit executes
@@ -169,8 +169,8 @@ def in_the_way(redo: Sequence[Unit], goals: Mapping[str, Vec], model: EnvModel
         size = model.bodies[f].size
         for later in redo[k + 1:]:
             x = later.focus
-            if x and x not in out and _footprints_meet(goals[f], size, model.bodies[x].position,
-                                                       model.bodies[x].size):
+            if x and x not in out and footprints_meet(goals[f], size, model.bodies[x].position,
+                                                      model.bodies[x].size, tol=0.0):
                 out.append(x)
     return out
 
@@ -186,7 +186,8 @@ def aside_spot(name: str, model: EnvModel, keep_clear: Mapping[str, Vec]) -> Vec
     others = [(b.position, b.size) for n, b in model.bodies.items() if n != name]
     others += [(g, model.bodies[n].size) for n, g in keep_clear.items() if n in model.bodies]
     for x, y in spots:
-        if all(not _footprints_meet((x, y, 0.0), size, p, s, ASIDE_CLEAR_MM) for p, s in others):
+        if not any(footprints_meet((x, y, 0.0), size, p, s, tol=-ASIDE_CLEAR_MM)
+                   for p, s in others):
             return (float(x), float(y), size[2] / 2.0)
     raise TaskFailed(f"no free spot on the table to set '{name}' aside")
 
@@ -213,8 +214,3 @@ def aside_plan(plan: Plan, unit: str, name: str, spot: Vec, support_type: str) -
                 and name not in r.objects]
         ops[op_name] = replace(op, sc_plus=tuple(plus + [rel] * placed))
     return replace(plan, operators=ops)
-
-
-def _footprints_meet(c1: Vec, s1: Vec, c2: Vec, s2: Vec, margin: float = 0.0) -> bool:
-    """Whether two boxes' x-y footprints overlap (grown by ``margin``)."""
-    return all(abs(c1[k] - c2[k]) < (s1[k] + s2[k]) / 2.0 + margin for k in (0, 1))
