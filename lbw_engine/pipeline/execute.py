@@ -129,9 +129,9 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     expected_sup = model.final_supports(names)
     step_aside(robot, rules)  # the cameras must see the structure, not the gripper
     robot.settle(SETTLE_S)
-    views["execution-final"] = eyes.last_images = renderer.render(world.scene())
     fine = {"alignments": tr.alignments, "coplanar_tolerance": rules.fine.coplanar_tolerance}
     verdict, seen = camera_verdict(eyes, expected, expected_sup, rules.support_relations, fine)
+    views["execution-final"] = eyes.last_images  # the views the verdict was read from
     truth = verify(expected, expected_sup, _final_state(world, sc, expected, shape_of),
                    rules.support_relations, **fine)
     report.update(verdict.to_json())
