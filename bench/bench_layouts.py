@@ -59,8 +59,8 @@ def tight_layout(scenario: Any, seed: int) -> dict[str, dict[str, Any]]:
     The row stands clear of where the taught structure will stand (its final
     footprints grown by ROW_CLEARANCE) and EDGE from the table's edges.
     """
+    from lbw_engine.model.geometry import TABLE_X, TABLE_Y
     from perception.world.generator import EDGE
-    from perception.world.layout import TABLE_X, TABLE_Y
 
     rng = np.random.default_rng(seed)
     final = scenario.states[-1]

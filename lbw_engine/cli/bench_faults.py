@@ -23,10 +23,10 @@ from typing import Any
 
 import numpy as np
 
+from lbw_engine.names import TABLE
+
 KINDS = ("none", "drop", "displace", "remove", "remove-spare", "drop+displace")
 SHIFT_MM = (50.0, 90.0)  # how far a displace slides an object
-CLEAR_MM = 40.0  # room for the fingers around a displaced or spare object
-TABLE = ((-280.0, 280.0), (20.0, 380.0))
 
 
 def run_faults_one(task: tuple[int, str, str | None, str]) -> list[dict[str, Any]]:
@@ -63,20 +63,20 @@ def run_faults_one(task: tuple[int, str, str | None, str]) -> list[dict[str, Any
 
 
 def _learn(sc: Any, rules_dir: str | None) -> tuple[Any, Any]:
-    """Watch → analyze: the learned plan (None if analysis refused it) and the rules."""
+    """Watch → repair → analyze, as ``lbw run`` does: the learned plan (None if analysis
+    refused it) and the rules."""
     from lbw_engine.do import plan as planmod
     from lbw_engine.errors import InputError
-    from lbw_engine.pipeline.watch import watch
+    from lbw_engine.pipeline.run import analyze_actions
+    from lbw_engine.pipeline.watch import repair, watch
     from lbw_engine.rules import load_rules
     from lbw_engine.see.actions import to_actions
-    from lbw_engine.understand import RelationTable, analyze, parse_actions
 
     rules = load_rules(rules_dir)
     recognizer, _ = watch(sc, rules)
-    actions = to_actions(recognizer)
+    actions = repair(to_actions(recognizer), rules).actions  # Sec. IX-C2, as in lbw run
     try:
-        seq = parse_actions(actions, RelationTable(rules.analysis.tolerance), file="actions.json")
-        return planmod.parse(analyze(seq, rules.analysis).plan, file="plan.json"), rules
+        return planmod.parse(analyze_actions(actions, rules).plan, file="plan.json"), rules
     except InputError:
         return None, rules
 
@@ -85,8 +85,10 @@ def draw_faults(kind: str, sc: Any, plan: Any, rng: np.random.Generator
                 ) -> tuple[list[str] | None, str]:
     """Fault lines (YAML flow mappings) and extra execution objects for one run, or
     None when the scenario offers no such fault (e.g. no free spot to slide to)."""
-    n = sum(1 for op in plan.operators.values() if op.cls == "ACHIEVE")
     from lbw_engine.do.matching import plan_objects
+    from lbw_engine.do.monitor import UNIT_CLASS
+
+    n = sum(1 for op in plan.operators.values() if op.cls == UNIT_CLASS)
 
     taught = plan.objects or {n: {"shape": o.shape} for n, o in sc.teach.objects.items()}
     used = {taught[n]["shape"] for n in plan_objects(plan) if n in taught}
@@ -121,45 +123,42 @@ def draw_faults(kind: str, sc: Any, plan: Any, rng: np.random.Generator
 
 def _taken(sc: Any, skip: str | None = None) -> list[tuple]:
     """Footprints to keep clear: execution objects and the taught final structure."""
+    from perception.world.generator import footprint
+
     boxes = [(o.center, o.size) for n, o in sc.execute.objects.items() if n != skip]
     final = sc.states[-1] if sc.states else None
     if final is not None:
         boxes += [(final.center[n], final.size[n]) for n in final.center]
-    return boxes
-
-
-def _clear(c: tuple, size: tuple, taken: list[tuple]) -> bool:
-    """On the table and clear of every taken footprint by the finger room."""
-    for k in (0, 1):
-        if c[k] - size[k] / 2 < TABLE[k][0] or c[k] + size[k] / 2 > TABLE[k][1]:
-            return False
-    return all(any(abs(c[k] - p[k]) >= (size[k] + s[k]) / 2 + CLEAR_MM for k in (0, 1))
-               for p, s in taken)
+    return [footprint(c[0], c[1], s[0], s[1]) for c, s in boxes]
 
 
 def _free_shift(sc: Any, obj: str, rng: np.random.Generator) -> tuple[float, float] | None:
     """A slide of ``obj`` to a clear spot, 50-90 mm away (a few random tries)."""
+    from perception.world.generator import clear, footprint
+
     o = sc.execute.objects[obj]
-    if o.on != ("table",):
+    if o.on != (TABLE,):
         return None  # slide only what stands on the table; its riders may fall
     taken = _taken(sc, skip=obj)
     for _ in range(60):
         a = rng.uniform(0, 2 * math.pi)
         d = rng.uniform(*SHIFT_MM)
         by = (round(d * math.cos(a)), round(d * math.sin(a)))
-        if _clear((o.center[0] + by[0], o.center[1] + by[1]), o.size, taken):
+        if clear(footprint(o.center[0] + by[0], o.center[1] + by[1], o.size[0], o.size[1]),
+                 taken):
             return by
     return None
 
 
 def _free_spot(sc: Any, size: tuple, rng: np.random.Generator) -> tuple[float, float] | None:
-    """A clear table spot for a spare of ``size``."""
-    taken = _taken(sc)
-    for _ in range(200):
-        c = (float(rng.uniform(*TABLE[0])), float(rng.uniform(*TABLE[1])))
-        if _clear(c, size, taken):
-            return c
-    return None
+    """A clear table spot for a spare of ``size`` (the generator's search), or None."""
+    from perception.world.generator import Crowded, free_spot
+
+    try:
+        x, y, _ = free_spot(rng, size, _taken(sc))
+    except Crowded:
+        return None
+    return x, y
 
 
 def _execute(rec: dict[str, Any], text: str, faults: list[str], extra: str, plan: Any,

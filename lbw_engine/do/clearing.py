@@ -26,11 +26,9 @@ from dataclasses import dataclass
 from lbw_engine.do import grasp, jaws
 from lbw_engine.do.plan import Plan, Relation
 from lbw_engine.model.env import EnvModel
-from lbw_engine.model.geometry import TABLE, Vec, overlap
+from lbw_engine.model.geometry import TABLE, TABLE_X, TABLE_Y, Vec, overlap
 from lbw_engine.rules.commands import CommandRules
 
-TABLE_X = (-300.0, 300.0)  # design.md: the table top, mm
-TABLE_Y = (0.0, 400.0)
 EDGE_MM = 12.0  # kept from the table's edge
 GRID_MM = 10.0  # spacing of candidate spots
 BUILD_MARGIN_MM = 60.0  # room kept around the places the plan will fill
@@ -63,7 +61,7 @@ def plan_set_aside(plan: Plan, name: str, rules: CommandRules,
     body = model.bodies[name]
     axis, off = grasp.choose(name, body.position, rules, model, strict=False)
     avoid = _build_sites(plan, rules, model)
-    for spot in _spots(body.position, body.size):
+    for spot in table_spots(body.position, body.size):
         if _clear(name, spot, axis, off, rules, model, avoid):
             return SetAside(name, body.position, spot, axis, off)
     return None
@@ -77,7 +75,7 @@ def plan_regrasp(plan: Plan, name: str, picks: list[tuple[int, float]],
     take it up, nearest it first."""
     body = model.bodies[name]
     avoid = _build_sites(plan, rules, model)
-    for spot in _spots(body.position, body.size):
+    for spot in table_spots(body.position, body.size):
         for axis, off in picks:
             if _clear(name, spot, axis, off, rules, model, avoid) and any(
                     jaws.blocker(name, spot, a, o, rules, model) is None for a, o in places):
@@ -90,9 +88,10 @@ def support_on_table(name: str, rules: CommandRules) -> Relation:
     return Relation(rules.support_relations[0], name, (TABLE,))
 
 
-def _spots(start: Vec, size: Vec) -> list[Vec]:
-    """Candidate table spots for a box of ``size``, nearest ``start`` first."""
-    hx, hy = size[0] / 2 + EDGE_MM, size[1] / 2 + EDGE_MM
+def table_spots(start: Vec, size: Vec, edge: float = EDGE_MM) -> list[Vec]:
+    """Candidate table spots for a box of ``size`` (``edge`` mm in from the table's
+    edges, on a grid), nearest ``start`` first: every set-aside searches these."""
+    hx, hy = size[0] / 2 + edge, size[1] / 2 + edge
     out = []
     x = TABLE_X[0] + hx
     while x <= TABLE_X[1] - hx:

@@ -18,6 +18,7 @@ import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
+from lbw_engine.do.clearing import table_spots
 from lbw_engine.do.matching import Measured
 from lbw_engine.do.plan import Plan, Relation, action_names
 from lbw_engine.do.tracing import TracedOp
@@ -153,7 +154,7 @@ def remodel(rules: RuleSet, shapes: Mapping[str, Sequence[float]], shape_of: Map
     return EnvModel.measured(rules, bodies, home)
 
 
-TABLE_XY = ((-260.0, 260.0), (40.0, 360.0))  # where set-asides go: the table, off its edges
+ASIDE_EDGE_MM = 30.0  # a set-aside block is kept this far in from the table's edges
 ASIDE_CLEAR_MM = 45.0  # room for the gripper's fingers beside a set-aside block
 
 
@@ -180,15 +181,11 @@ def aside_spot(name: str, model: EnvModel, keep_clear: Mapping[str, Vec]) -> Vec
     of every plan object's goal (``keep_clear``)."""
     size = model.bodies[name].size
     here = model.bodies[name].position
-    spots = [(x, y) for x in range(int(TABLE_XY[0][0]), int(TABLE_XY[0][1]) + 1, 10)
-             for y in range(int(TABLE_XY[1][0]), int(TABLE_XY[1][1]) + 1, 10)]
-    spots.sort(key=lambda p: math.dist(p, here[:2]))
     others = [(b.position, b.size) for n, b in model.bodies.items() if n != name]
     others += [(g, model.bodies[n].size) for n, g in keep_clear.items() if n in model.bodies]
-    for x, y in spots:
-        if not any(footprints_meet((x, y, 0.0), size, p, s, tol=-ASIDE_CLEAR_MM)
-                   for p, s in others):
-            return (float(x), float(y), size[2] / 2.0)
+    for spot in table_spots(here, size, edge=ASIDE_EDGE_MM):
+        if not any(footprints_meet(spot, size, p, s, tol=-ASIDE_CLEAR_MM) for p, s in others):
+            return spot
     raise TaskFailed(f"no free spot on the table to set '{name}' aside")
 
 

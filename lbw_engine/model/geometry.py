@@ -21,6 +21,8 @@ from lbw_engine.names import TABLE
 Vec = tuple[float, float, float]
 Box = tuple[Vec, Vec]  # (centre, size)
 
+TABLE_X = (-300.0, 300.0)  # the table top's extent, mm (design.md), for everything in lbw
+TABLE_Y = (0.0, 400.0)
 SUPPORT_GAP_MM = 10.0  # a bottom face this close to a top face can rest on it
 SUPPORT_LEVEL_MM = 5.0  # the supports of one object have tops this close to the nearest one
 SUPPORT_OVERLAP_MM = 3.0  # ... and footprints overlapping its own by more than this

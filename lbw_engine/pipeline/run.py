@@ -156,8 +156,7 @@ def run(scenario: Any, rules_dir: Any = None, fps: float = 30.0,
             f" (after {after['repairs']} repair(s))" if after["repairs"] else "")
     clock = time.perf_counter()
     try:  # the recognizer's own output: a template mismatch is a failed task, not bad input
-        seq = parse_actions(actions, RelationTable(rules.analysis.tolerance), file="actions.json")
-        analysis = analyze(seq, rules.analysis)
+        analysis = analyze_actions(actions, rules)
     except InputError as exc:
         failures["analysis"] = str(exc)
     else:
@@ -171,6 +170,13 @@ def run(scenario: Any, rules_dir: Any = None, fps: float = 30.0,
     result.failure = next((f"{phase}: {failures[phase]}" for phase in PHASES
                            if phase in failures), None)
     return result
+
+
+def analyze_actions(actions: dict[str, Any], rules: RuleSet) -> Any:
+    """The analysis of a (repaired) recognized sequence; InputError when its templates
+    do not fit (the caller decides whose fault that is)."""
+    seq = parse_actions(actions, RelationTable(rules.analysis.tolerance), file="actions.json")
+    return analyze(seq, rules.analysis)
 
 
 def _execute(result: RunResult, scenario: Any, rules: RuleSet,

@@ -13,11 +13,10 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
+from lbw_engine.model.geometry import TABLE_X, TABLE_Y
 from lbw_engine.names import HAND
 from lbw_engine.rules import Roles
 
-TABLE_X = (-300.0, 300.0)  # table top extent, mm (design.md)
-TABLE_Y = (0.0, 400.0)
 MAX_TOP = 300.0  # structures stay below this height
 EPS = 0.01  # mm: boxes touching face to face do not overlap
 HEIGHT_TOL = 0.5  # mm: supports of one box must have tops this close

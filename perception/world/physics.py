@@ -19,10 +19,10 @@ from collections.abc import Iterable
 
 import pymunk
 
-from lbw_engine.model.geometry import resting_on
+from lbw_engine.model.geometry import TABLE_X, resting_on
 from lbw_engine.rules import Roles
 from perception.world.hand import TIP, Gripper
-from perception.world.layout import TABLE_X, Layout
+from perception.world.layout import Layout
 from perception.world.scene import Box
 
 GRAVITY = 9810.0  # mm/s^2

@@ -35,6 +35,7 @@ from perception.world.generator.classic import (
     MAX_HEIGHT,
     Crowded,
     Generated,
+    clear,
     footprint,
     free_spot,
 )
@@ -43,7 +44,8 @@ from perception.world.generator.families import FAMILY_BUILDERS, SIMULATED
 from perception.world.scenario import Scenario, load_text
 from perception.world.wrist import hold_axis
 
-__all__ = ["BUILDERS", "CATALOGUE", "FAMILIES", "LEVELS", "Generated", "distinguishable",
+__all__ = ["BUILDERS", "CATALOGUE", "FAMILIES", "LEVELS", "Crowded", "Generated", "clear",
+           "distinguishable",
            "family_of", "footprint", "free_spot", "generate"]
 
 FAMILIES: tuple[str, ...] = ("classic", *FAMILY_BUILDERS)

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from perception.world.layout import TABLE_X, TABLE_Y
+from lbw_engine.model.geometry import TABLE_X, TABLE_Y
 from perception.world.scenario import Noise, Scenario, load_text
 
 # name -> (x, y, z) mm; pairwise at least 10 mm apart on two axes or 20 mm on one.
@@ -188,8 +188,9 @@ _SIZE = {"tower": (50, 50), "arch": (130, 40), "table": (120, 100), "pyramid": (
          "inverted-arch": (160, 60)}
 
 
-def _clear(fp: tuple, taken: list[tuple]) -> bool:
-    """Is footprint ``fp`` on the table and MARGIN away from every taken footprint?"""
+def clear(fp: tuple, taken: list[tuple]) -> bool:
+    """Is footprint ``fp`` on the table and MARGIN away from every taken footprint (room
+    for the gripper's fingers)? Every generated or injected placement is tested by this."""
     x0, x1, y0, y1 = fp
     if x0 < TABLE_X[0] + EDGE or x1 > TABLE_X[1] - EDGE or y0 < TABLE_Y[0] + EDGE or \
             y1 > TABLE_Y[1] - EDGE:
@@ -208,7 +209,7 @@ def free_spot(rng: np.random.Generator, size: Sequence[float], taken: list[tuple
         cx = float(rng.integers(int(TABLE_X[0]), int(TABLE_X[1]) + 1))
         cy = float(rng.integers(int(TABLE_Y[0]), int(TABLE_Y[1]) + 1))
         fp = footprint(cx, cy, size[0], size[1])
-        if _clear(fp, taken):
+        if clear(fp, taken):
             return cx, cy, fp
     raise Crowded()
 
