@@ -45,7 +45,8 @@ REENTRY_S = 0.5  # s after leaving before a moving thing counts as a new hand (n
 HISTORY_S = 30.0  # s of the hand's path kept (a motion's stretch is a few seconds)
 LET_GO_MM = 8.0  # the hand let go at the last point of its path this close to its lowest
 GRASP_MARGIN_MM = 20.0  # a grasp is made over the object's footprint grown by this
-SETTLE_FRAMES = 5  # tracked frames after a (re)placement before the velocity is trusted
+CONVERGE_FRAMES = 3  # frames a (re)placed tracker's windows take to pull onto the hand
+SETTLE_FRAMES = 5  # tracked frames after convergence before the velocity is trusted
 
 
 @dataclass(frozen=True)
@@ -146,7 +147,11 @@ class HandState:
         if self.status == "tracking" and not self.tracker.tracking:
             gone = self.hand is None or not inside(self.hand, -BORDER_MM)
             self.status, self.t_gone = ("gone", t) if gone else ("lost", self.t_gone)
-        if self.settled == 1:
+        if self.settled <= CONVERGE_FRAMES:
+            # A re-placement puts the windows where the motion-detector saw motion, which
+            # may be off the fingers (the wrist, a settling block): until they have pulled
+            # onto the hand their points are not the hand's path, and a velocity fitted
+            # across that jump reads as a fast motion (a false :Far on a slow depart).
             self.path.clear()
             self.raw.clear()
             self.checked.clear()
@@ -209,7 +214,7 @@ class HandState:
     @property
     def steady(self) -> bool:
         """Whether the tracker has followed the hand long enough to trust its velocity."""
-        return self.settled >= SETTLE_FRAMES
+        return self.settled >= CONVERGE_FRAMES + SETTLE_FRAMES - 1
 
     def speed(self) -> float:
         """Current hand speed (mm/s)."""
