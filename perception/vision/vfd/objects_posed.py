@@ -208,10 +208,25 @@ def _tops_seen(group: list[str], expected: Mapping[str, Expected],
         covered = any(m != n and expected[m][1][2] > c[2] and all(
             abs(expected[m][1][k] - c[k]) < (expected[m][2][k] + size[k]) / 2.0 for k in (0, 1))
             for m in group)
-        if not covered and not any(abs(f.position[0] - c[0]) <= TOP_MM and
-                                   abs(f.position[1] - c[1]) <= TOP_MM for f in found):
+        if not covered and not _top_seen(c, size, found):
             return False
     return True
+
+
+def _top_seen(c: Sequence[float], size: Sequence[float], found: list[FoundObject]) -> bool:
+    """The finder measured this top face: one reading centred on it (within TOP_MM), or
+    readings at its height that together span its footprint. A top over a gap between
+    two supports is cut in two by the supports' edges and read as two columns."""
+    if any(abs(f.position[0] - c[0]) <= TOP_MM and abs(f.position[1] - c[1]) <= TOP_MM
+           for f in found):
+        return True
+    top = c[2] + size[2] / 2.0
+    parts = [f for f in found if abs(f.position[2] + f.size[2] / 2.0 - top) <= SIZE_MM
+             and all(abs(f.position[k] - c[k]) < (f.size[k] + size[k]) / 2.0 for k in (0, 1))]
+    return len(parts) > 1 and all(
+        min(f.position[k] - f.size[k] / 2.0 for f in parts) <= c[k] - size[k] / 2.0 + TOP_MM
+        and max(f.position[k] + f.size[k] / 2.0 for f in parts) >= c[k] + size[k] / 2.0 - TOP_MM
+        for k in (0, 1))
 
 
 def _add_hidden(boxes: list, named: dict[str, int], added: list[str],
