@@ -84,7 +84,7 @@ def test_family_scenario_is_valid_and_of_its_class(family, seed):
 
 def test_tight_gaps_run_along_both_axes_and_rows_run_along_both_axes():
     """The demonstrator's wrist turns (perception.world.wrist): 0-10 mm gaps along x too."""
-    gaps = [g for s in range(12) for g in _neighbour_gaps(generate(s, family="gaps").scenario())]
+    gaps = [g for s in range(24) for g in _neighbour_gaps(generate(s, family="gaps").scenario())]
     assert min(g for axis, g in gaps if axis == 1) <= 2
     assert min(g for axis, g in gaps if axis == 0) <= 2
     axes = {axis for s in range(12) for axis, _ in

@@ -6,8 +6,8 @@ half of them so their rows run along x. The families, and what each exercises:
 | family         | what is built                                                           |
 |----------------|-------------------------------------------------------------------------|
 | axis           | rows, pyramids, arches, tables, along x or y (gaps 4-10 mm)             |
-| gaps           | rows and 2x2 grids with 0-10 mm gaps on both axes; a cube across a gap, |
-|                | a plate on the grid (multi-support places over neighbours)              |
+| gaps           | rows and 2x2 grids with 0-10 mm gaps on both axes; a block or a slab    |
+|                | narrower than the cubes across a gap, a plate on the grid               |
 | align          | a block set down near another and slid into side contact, any face      |
 | small          | 10-20 mm cubes: towers, rows, a small cube on a 40 mm cube              |
 | pillars        | 12-18 mm wide, 110-120 mm tall pillars standing in a row                |
@@ -101,7 +101,11 @@ def gaps(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
         row = _row(p, rng, f"{tag}-c", _ri(rng, 2, 3), ("cube", CUBE), (0, 10))
         if rng.random() < 0.6:
             j = _ri(rng, 0, len(row) - 2)
-            p.put(f"{tag}-across", [row[j], row[j + 1]], shape=("block", CATALOGUE["block"]))
+            # A block wider than the cubes, or a slab narrower than them across the row:
+            # its top face is then cut in two by the cubes' edges in the top view.
+            across = ("block", CATALOGUE["block"]) if rng.random() < 0.5 else (
+                "slab", (_ri(rng, 20, 32), _ri(rng, 60, 80), 20))
+            p.put(f"{tag}-across", [row[j], row[j + 1]], shape=across)
         return p
     p = Piece("gap-grid")
     gx, gy = _ri(rng, 0, 10), _ri(rng, 0, 10)
