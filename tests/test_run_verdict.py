@@ -109,3 +109,28 @@ def test_the_first_phase_that_went_wrong_is_named(tmp_path, monkeypatch, capsys,
     assert verdict["success"] is False and verdict["failure"].startswith(f"{phase}: ")
     assert f"failed: {phase}: " in capsys.readouterr().err
     assert (tmp_path / "actions.json").exists()  # what was made before it is kept
+
+
+def _acting(target, special=()):
+    return {"objects": {"block1": {"shape": "block"}, "post1": {"shape": "post"},
+                        "block2": {"shape": "plate"}},
+            "operations": [{"name": "op01", "operation": "X", "target": list(target),
+                            "special": list(special)}]}
+
+
+@pytest.mark.parametrize("target, special, wrong", [
+    (["block1"], [], None),                  # a teach object, its shape
+    (["table"], ["block1"], None),           # the reserved names are not objects
+    (["hand"], [], None),
+    (["post1"], [], "'post1' (post)"),       # a name the finder made up: not in the workspace
+    (["block2"], [], "'block2' (plate)"),    # a teach name on an object of another shape
+    (["table"], ["post1"], "'post1' (post)"),
+], ids=["teach-object", "table", "hand", "made-up-name", "wrong-shape", "placed-unknown"])
+def test_operations_on_objects_not_in_the_teach_workspace_fail_recognition(target, special,
+                                                                          wrong):
+    sc = load(SCENARIO)  # place-and-align: block1, block2 are blocks
+    found = runmod.foreign_objects(sc, _acting(target, special))
+    if wrong is None:
+        assert found is None
+    else:
+        assert wrong in found and found.startswith("op01: ")

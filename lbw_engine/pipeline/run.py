@@ -27,6 +27,7 @@ from typing import Any
 
 from lbw_engine.do import plan as planmod
 from lbw_engine.errors import InputError, TaskFailed
+from lbw_engine.names import RESERVED
 from lbw_engine.outputs import OutputDir
 from lbw_engine.pipeline.execute import execute_plan
 from lbw_engine.pipeline.watch import repair, watch
@@ -83,6 +84,22 @@ def compare_with_truth(scenario: Any, actions: dict[str, Any], rules: RuleSet
     same = compare_sequence([{"operation": op} for op in expected], actions["operations"])
     return {"expected": expected, "recognized": recognized, "exact": same["exact"],
             "difference": same["difference"]}
+
+
+def foreign_objects(scenario: Any, actions: dict[str, Any]) -> str | None:
+    """The first object the operations act on that the teach workspace does not hold, with
+    that name and shape (evaluation only: the recognizer names what it finds after the
+    teach objects, perception.vision.envnodes.objects); None when all are there."""
+    teach = {n: o.shape for n, o in scenario.teach.objects.items()}
+    found = actions.get("objects", {})
+    for op in actions["operations"]:
+        for name in (*op.get("target", ()), *op.get("special", ())):
+            if name in RESERVED or teach.get(name) == found.get(name, {}).get("shape"):
+                continue
+            shape = found.get(name, {}).get("shape", "?")
+            return (f"{op.get('name', op['operation'])}: the object '{name}' ({shape}) that "
+                    "it acts on is not in the teach workspace (the object-finder misread it)")
+    return None
 
 
 def with_repair(recognition: dict[str, Any], repaired: Any) -> dict[str, Any]:
@@ -154,6 +171,8 @@ def run(scenario: Any, rules_dir: Any = None, fps: float = 30.0,
         # what was learned is not what was shown: the task failed (design.md exit codes)
         failures["recognition"] = after["difference"] + (
             f" (after {after['repairs']} repair(s))" if after["repairs"] else "")
+    elif (wrong := foreign_objects(scenario, actions)):
+        failures["recognition"] = wrong  # the right operations on objects not shown
     clock = time.perf_counter()
     try:  # the recognizer's own output: a template mismatch is a failed task, not bad input
         analysis = analyze_actions(actions, rules)
