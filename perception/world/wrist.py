@@ -7,7 +7,8 @@ the axis for each pick or touch from the scenario's own layouts (the person
 sees the world; perception does not get this), so that the fingers have room
 at the pick, at the place that follows, and along an ALIGN slide (Sec. V-B5)
 in between. x wins when both are free, so demonstrations that never needed
-the turn are unchanged.
+the turn are unchanged, unless the block is too long along x for a comfortable
+grip (COMFORTABLE_SPAN) and its y side is free.
 
 Why not the robot's free-side test (``lbw_engine.do.jaws.blocker``)? The
 layers would allow the import, but that test is parametrised by the robot's
@@ -31,6 +32,10 @@ SLACK = 2.0  # mm beyond the open finger's outer face: tremor and the slanted ap
 CONTACT_GAP = 0.3  # mm left between blocks after an align slide toward another block
 SLIDE_STEP = 2.0  # mm between the points checked along an align slide
 HAND = GripperGeometry()
+# A person takes a long beam across its width, not between its ends: a pre-shape wider
+# than this is used only when the narrow side has no room (a 180 mm beam held at its ends
+# also puts the fingers 190 mm apart, too far for the hand-tracker's windows, Sec. V-A).
+COMFORTABLE_SPAN = 150.0
 
 
 def finger_boxes(center: Vec3, size: Vec3, axis: int) -> list[tuple]:
@@ -104,9 +109,10 @@ def hold_axis(scenario, i: int) -> int | None:
             after, place = scenario.states[j], steps[j]
             slide = slide_path(after, place) if place.align is not None else []
             checks += [(after, p) for p in _path([place.dest, *slide, place.final])]
-    for axis in (0, 1):
-        size = before.size[step.obj]
-        if size[axis] + 2 * CLEARANCE <= HAND.max_opening and all(
-                has_room(lay, step.obj, c, axis) for lay, c in checks):
-            return axis
+    size = before.size[step.obj]
+    for span in (COMFORTABLE_SPAN, HAND.max_opening):  # the wide grip only if it must be
+        for axis in (0, 1):
+            if size[axis] + 2 * CLEARANCE <= span and all(
+                    has_room(lay, step.obj, c, axis) for lay, c in checks):
+                return axis
     return None
