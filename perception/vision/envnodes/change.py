@@ -21,7 +21,14 @@ from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
 from perception.vision.vfd.base import BLOCK_MIN, HAND_BAND, Region3D, band, region_mask
-from perception.vision.vfd.change import APPEARED, DISAPPEARED, NO_CHANGE, ChangeDetector, Snapshot
+from perception.vision.vfd.change import (
+    APPEARED,
+    DISAPPEARED,
+    NO_CHANGE,
+    ChangeDetector,
+    Snapshot,
+    shade_change,
+)
 
 PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, align slide)
 PICK_MARGIN_MM = 8.0
@@ -101,6 +108,9 @@ class ChangeNode(EnvNodeBase):
             before, after = first["hold"], self.hand.tracker.holding_evidence
             if act.special and before >= HOLDING and after <= EMPTY:
                 result = APPEARED
+            elif act.special and after <= EMPTY and \
+                    shade_change(shot, last) >= det.area_threshold:
+                result = APPEARED  # set down onto or in front of blocks already in view
             elif (not act.special and before <= EMPTY and after >= HOLDING
                   and not self.still_there(act, env, shot, last)):
                 result = DISAPPEARED

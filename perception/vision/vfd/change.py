@@ -27,6 +27,10 @@ AREA_THRESHOLD = 0.12  # changed fraction of the region's image area that counts
 # other one) sees only the uncovered part, and its centre is pulled off the object's; it is
 # left out of the position when more than this share is hidden and another view is clear.
 HIDDEN_SHARE = 0.25
+# A pixel changed shade when its gray moved this much: a block's faces differ by ~85 gray
+# levels (renderer), two frames at 4x pixel noise (std 8) by ~11 (std of the difference).
+GRAY_STEP = 48
+_SPECK = np.ones((2, 2), np.uint8)
 
 
 @dataclass(frozen=True)
@@ -121,3 +125,23 @@ class ChangeDetector(VFD):
                 centres["top"], float(region.center[2]))
         self._found = True
         return self.result
+
+
+def shade_change(first: Snapshot, last: Snapshot) -> float:
+    """The largest share, over the views, of a region's window whose block pixels changed
+    shade between two snapshots (hand pixels and lone speckles left out).
+
+    A block set down onto or in front of others, whose faces were already bright in the
+    window, changes their shades more than the count of bright pixels: a slab laid across
+    a row seen from the side covers the row's top faces with its own front face.
+    """
+    import cv2
+
+    out = 0.0
+    for v in VIEWS:
+        a, b = first.pixels[v].astype(np.int16), last.pixels[v].astype(np.int16)
+        hand = band(first.pixels[v], *HAND_BAND) | band(last.pixels[v], *HAND_BAND)
+        changed = (np.abs(b - a) > GRAY_STEP) & ((a > DARK_MAX) | (b > DARK_MAX)) & ~hand
+        changed = cv2.morphologyEx(changed.astype(np.uint8), cv2.MORPH_OPEN, _SPECK)
+        out = max(out, float(changed.sum()) / max(1, changed.size))
+    return out
