@@ -20,6 +20,17 @@ CASES = {
     # along the beam) lay > 120 mm from the hand; the tracker was re-placed off the hand,
     # lost it, and its first speeds gave a :Far above the spot: an extra PICK of the table
     "class4-long-beam-carried": "cross-beams.yaml",
+    # class 4 (lbw bench seed 1054): the person held a 180 mm beam between its ends, fingers
+    # 190 mm apart; the tracker sat on one finger, the beam was estimated 100 mm off and its
+    # place on the crossing beam was read as on the table (perception/world/wrist.py)
+    "class4-beam-taken-across-its-width": "beam-cross-on-bricks.yaml",
+    # class 2 (seed 1043, 2x): a slab laid across a row seen from the side covers the row's
+    # bright top faces with its own front face: no change in the count of bright pixels,
+    # only in their shades (perception/vision/vfd/change.py shade_change)
+    "class2-slab-across-a-gap-changes-shades": "slab-across-gap-2x.yaml",
+    # class 6 (seed 1026, 4x): a tremor peak of 0.2 s on the slow rise after a pick passed
+    # the fast-rise :Far cue (then 0.1 s): a Transfer inside the depart and a false :Near
+    "class6-tremor-peak-is-not-a-transfer": "plate-on-three-4x.yaml",
 }
 
 
