@@ -111,8 +111,19 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
         return check.wrong([(b.position, b.size) for b in boxes if b is not None])
 
     added: list[str] = []
-    doubtful = [g for g in _structures(expected, cameras)
-                if not _replace_structure(boxes, named, g, expected, check)]
+    doubtful = []
+    for g in _structures(expected, cameras):
+        if _replace_structure(boxes, named, g, expected, check):
+            continue
+        # Blocks that merely overlap in an image (a plank behind two towers) need not stand
+        # or fall together: each stack is tried on its own, so one misread stack does not
+        # leave its neighbours to the finder's reading.
+        stacks = _stacks(g, expected)
+        if len(stacks) > 1:
+            doubtful += [t for t in stacks if not _replace_structure(boxes, named, t, expected,
+                                                                     check)]
+        else:
+            doubtful.append(g)
     for _ in range(PASSES):  # a block's pose may only fit once its neighbours' do
         before = len(named)
         _add_hidden(boxes, named, added, expected, cost)
@@ -160,6 +171,25 @@ def _structures(expected: Mapping[str, Expected], cameras: Mapping[str, Camera]
     for g in group.values():
         if sorted(g) not in out:
             out.append(sorted(g))
+    return out
+
+
+def _stacks(group: list[str], expected: Mapping[str, Expected]) -> list[list[str]]:
+    """The group's blocks joined where their footprints overlap (one rests on, or over,
+    the other), transitively: the stacks and bridges the group is made of."""
+    part = {n: {n} for n in group}
+    for i, a in enumerate(group):
+        for b in group[i + 1:]:
+            (ca, sa), (cb, sb) = expected[a][1:], expected[b][1:]
+            if part[a] is not part[b] and all(
+                    abs(ca[k] - cb[k]) < (sa[k] + sb[k]) / 2.0 for k in (0, 1)):
+                merged = part[a] | part[b]
+                for n in merged:
+                    part[n] = merged
+    out: list[list[str]] = []
+    for members in part.values():
+        if sorted(members) not in out:
+            out.append(sorted(members))
     return out
 
 
