@@ -136,6 +136,8 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
             for n in [n for n in group if n in added]:  # the hidden ones are least sure
                 boxes[named.pop(n)] = None
                 added.remove(n)
+    if named:
+        _drop_unseen(boxes, named, cost)
     keep = [i for i, b in enumerate(boxes) if b is not None]
     index = {i: k for k, i in enumerate(keep)}
     return [boxes[i] for i in keep], {n: index[i] for n, i in named.items()}, added
@@ -275,6 +277,23 @@ def _add_hidden(boxes: list, named: dict[str, int], added: list[str],
             added.append(name)
         else:
             boxes.pop()
+
+
+def _drop_unseen(boxes: list, named: dict[str, int], cost: Callable[[], int]) -> None:
+    """Readings no expected block took whose silhouettes the others cover in both views:
+    nothing in the images shows them (the finder's guess of a column under a beam, between
+    an arch's pillars). The converse of ``_add_hidden``; a spare block in sight changes
+    the views when left out, and stays."""
+    base = cost()
+    for i, b in enumerate(boxes):
+        if b is None or i in named.values():
+            continue
+        boxes[i] = None
+        trial = cost()
+        if trial <= base:
+            base = trial
+        else:
+            boxes[i] = b
 
 
 def _replace(boxes: list, named: dict[str, int], expected: Mapping[str, Expected],
