@@ -21,7 +21,13 @@ import numpy as np
 from perception.vision.frames import Frame
 from perception.vision.vfd.base import DARK_MAX, VFD
 from perception.vision.vfd.objects_match import SilhouetteCheck, assign, nearest
-from perception.vision.vfd.objects_rings import complete_rim, complete_rims, cover_of, find_rims
+from perception.vision.vfd.objects_rings import (
+    complete_rim,
+    complete_rims,
+    cover_of,
+    find_rims,
+    within,
+)
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
@@ -95,7 +101,9 @@ class ObjectFinder(VFD):
                 continue
             boxes.append((height, self._footprint(rect, height), rect))
         rings = find_rims(boxes, 0.6 * smallest)
-        framing = {i for i, b in enumerate(boxes) if b[2] in rings.values()}
+        # every piece of a rim, not the face it rims (a whole ring's extents hold that too)
+        framing = {i for i, b in enumerate(boxes)
+                   if i not in rings and any(within(b[2], r) for r in rings.values())}
         boxes = complete_rims(boxes, framing, self._footprint, shapes)
         found = []
         for k, (height, (x0, y0, x1, y1), _) in enumerate(boxes):

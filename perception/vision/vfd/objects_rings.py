@@ -39,8 +39,8 @@ def find_rims(boxes: list[Box], sliver_px: float) -> dict[int, tuple]:
     parts: dict[int, list[tuple]] = {}
     for i, (h_out, _, outer) in enumerate(boxes):
         for j, (h_in, _, inner) in enumerate(boxes):
-            if i == j:
-                continue
+            if i == j or min(inner[2] - inner[0], inner[3] - inner[1]) < sliver_px:
+                continue  # a face thinner than any top face is a rim piece, never framed
             sliver = min(outer[2] - outer[0], outer[3] - outer[1]) < sliver_px <= min(
                 inner[2] - inner[0], inner[3] - inner[1]) and _touches(outer, inner)
             framed = frames(outer, inner) and h_out >= h_in - 3.0
@@ -154,3 +154,9 @@ def complete_rim(rim: Sequence[float], cover: Sequence[float], upper: Sequence[f
                 centre.append(float(upper[a]))
             extent.append(float(s[a]))
     return name, (float(centre[0]), float(centre[1])), (float(extent[0]), float(extent[1])), err
+
+
+def within(rect: Sequence[float], outer: Sequence[float]) -> bool:
+    """Whether pixel rectangle ``rect`` lies inside ``outer`` (a rim piece in its rim)."""
+    return outer[0] <= rect[0] and outer[1] <= rect[1] and rect[2] <= outer[2] \
+        and rect[3] <= outer[3]
