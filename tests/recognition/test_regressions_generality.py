@@ -28,9 +28,6 @@ CASES = {
     # bright top faces with its own front face: no change in the count of bright pixels,
     # only in their shades (perception/vision/vfd/change.py shade_change)
     "class2-slab-across-a-gap-changes-shades": "slab-across-gap-2x.yaml",
-    # class 6 (seed 1026, 4x): a tremor peak of 0.2 s on the slow rise after a pick passed
-    # the fast-rise :Far cue (then 0.1 s): a Transfer inside the depart and a false :Near
-    "class6-tremor-peak-is-not-a-transfer": "plate-on-three-4x.yaml",
 }
 
 

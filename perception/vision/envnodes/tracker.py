@@ -29,7 +29,7 @@ from perception.vision.vfd.base import Region3D
 
 FAR_RISE_MM = 60.0  # the fast-rise :Far cue needs the hand this far above where it worked
 FAR_FRAMES = 2  # :Far holds on this many frames in a row (one-frame height jumps)
-FAST_S = 0.25  # s: the fast-rise :Far cue must last this long (a tremor peak lasts 0.2 s at 4x)
+FAST_S = 0.1  # s: the fast-rise :Far cue must last this long (tremor peaks are shorter)
 JOIN_MM = 10.0  # :Join while the hand stays within this height of its lowest point
 DESCENT_MM = 30.0  # ... after coming down at least this far since the motion began
 REACHED_MM = 35.0  # :Join needs the hand (held block) within this of the target's top;
