@@ -32,10 +32,11 @@ SLACK = 2.0  # mm beyond the open finger's outer face: tremor and the slanted ap
 CONTACT_GAP = 0.3  # mm left between blocks after an align slide toward another block
 SLIDE_STEP = 2.0  # mm between the points checked along an align slide
 HAND = GripperGeometry()
-# A person takes a long beam across its width, not between its ends: a pre-shape wider
-# than this is used only when the narrow side has no room (a 180 mm beam held at its ends
-# also puts the fingers 190 mm apart, too far for the hand-tracker's windows, Sec. V-A).
-COMFORTABLE_SPAN = 150.0
+# A person takes a beam longer than the hand's span across its width, not between its
+# ends: a pre-shape wider than this is used only when the narrow side has no room (a
+# 180 mm beam held at its ends put the fingers 204 mm apart, too far for the
+# hand-tracker's windows, Sec. V-A; a 160 mm plank, 184 mm, is still held lengthwise).
+COMFORTABLE_SPAN = 190.0
 
 
 def finger_boxes(center: Vec3, size: Vec3, axis: int) -> list[tuple]:
