@@ -12,7 +12,7 @@ The same measurement, on the final views, gives the cameras' verdict.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -78,21 +78,16 @@ class Eyes:
         self.last_images: dict | None = None
         self.windows: list[tuple] = []  # the last look's blocks, as image rectangles
 
-    def look(self, expected: Mapping[str, Any], doubted: Iterable[str] = ()) -> Look:
-        """Measure the workspace and name what is seen by the plan objects expected.
-
-        A ``doubted`` object (the robot was not seen to put it where expected) is not
-        accepted at its expected pose on the images' word alone: it is named by what the
-        finder measured, wherever that is."""
+    def look(self, expected: Mapping[str, Any]) -> Look:
+        """Measure the workspace and name what is seen by the plan objects expected."""
         from perception.vision.frames import Frame
         from perception.vision.vfd.objects_posed import explain
 
         images = self.last_images = self.renderer.render(self.world.scene())
         frame = Frame(0, self.world.time, images["top"], images["side"])
         found = sorted(self.finder.find(frame, self.shapes), key=lambda f: f.mismatch)
-        doubt = set(doubted)
         want = {n: (self.shape_of[n], p, self.shapes[self.shape_of[n]])
-                for n, p in expected.items() if n not in doubt}
+                for n, p in expected.items()}
         boxes, named, inferred = explain(self.cameras, images, found, want)
         self.windows = [(cam, _rect(self.cameras[cam], b.position, b.size), "object")
                         for b in boxes for cam in ("top", "side")]
@@ -170,7 +165,7 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         seen_ops = [] if watch is None else _compare_ops(
             unit, watch.end(), moving, robot.world.time, out.operations)
         out.detections.extend(seen_ops)
-        seen = eyes.look(unit.expected, {d["object"] for d in seen_ops})
+        seen = eyes.look(unit.expected)
         out.spans.append({"operator": unit.operator, "t_start": round(t0, 2),
                           "t_end": round(robot.world.time, 2)})
         hint.update({n: (eyes.shape_of[n], tuple(st.position[:2]))
@@ -209,7 +204,7 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
     return out
 
 
-def _compare_ops(unit: Unit, nodes: list, moving: Mapping[str, str], t: float,
+def _compare_ops(unit: Unit, nodes: list, moving: Mapping[str, tuple], t: float,
                  record: list[dict]) -> list[dict]:
     """The unit's recognized operations against its executed ones (do/opcheck.py): the
     object-moving ones must agree in order; all are recorded in ``record``."""

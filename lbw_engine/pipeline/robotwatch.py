@@ -8,7 +8,7 @@ second of robot time, and feeds the frames online, in order, to a recognizer
 configured from the same rules and image-backed detectors as ``lbw watch``.
 The detectors find the subject by its gray band; the gripper is drawn in
 another band than the hand, so its frames go through the gripper's appearance
-table first (``perception.vision.vfd.subject``). The detectors read only those
+first (``perception.vision.vfd.subject``). The detectors read only those
 images.
 
 One recognizer per ACHIEVE: the monitor's look between ACHIEVEs takes the
@@ -35,10 +35,10 @@ class RobotWatch:
     def __init__(self, renderer: Any, shapes: Mapping[str, Sequence[float]], rules: RuleSet,
                  fps: float = WATCH_FPS) -> None:
         """``renderer`` draws the world's scene (the world is never read otherwise)."""
-        from perception.vision.vfd.subject import subject_table
+        from perception.vision.vfd.subject import SubjectView
 
         self.renderer, self.shapes, self.rules = renderer, shapes, rules
-        self.table = subject_table("gripper")
+        self.subject = SubjectView("gripper")
         self.period = 1.0 / fps
         self.next_t: float | None = None
         self.index = 0
@@ -70,11 +70,9 @@ class RobotWatch:
             self.index += 1
             return
         from perception.vision.frames import Frame
-        from perception.vision.vfd.subject import as_subject
 
         views = self.render(world)
-        frame = as_subject(Frame(self.index, world.time, views["top"], views["side"]),
-                           self.table)
+        frame = self.subject.frame(Frame(self.index, world.time, views["top"], views["side"]))
         self.index += 1
         self.frames += 1
         self.rec.step(world.time, frame)
