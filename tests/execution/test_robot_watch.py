@@ -61,7 +61,7 @@ def test_the_compared_operations_are_those_whose_effect_moves_an_object():
     for op, (kind, var, feature) in moving.items():
         move = rules.effects[op].move
         assert kind in move and f"${var}" in move.values() and feature == move.get("measured")
-    assert {kind for kind, _ in moving.values()} == {"follow", "place"}
+    assert {kind for kind, _, _ in moving.values()} == {"follow", "place"}
 
 
 def execute(tmp_path, scenario, capsys):
