@@ -4,9 +4,12 @@ The traced plan is executed one ACHIEVE at a time (lbw_engine.do.monitor).
 After each, the robot steps out of the cameras' view, the world runs briefly
 (a dropped or toppled block comes to rest) and the object-finder measures the
 workspace from the two images; the measured state is compared with the state
-the trace expects after that ACHIEVE. A difference is a detection; the
-measured state is matched against the plan again and the undone ACHIEVEs are
-re-traced and executed with the rest, within a bounded number of repairs.
+the trace expects after that ACHIEVE; the operations the demonstration's
+recognizer saw the gripper do during it (``robotwatch``) are compared with the
+executed ones (``lbw_engine.do.opcheck``). A difference is a detection; a state
+difference starts a repair: the measured state is matched against the plan
+again and the undone ACHIEVEs are re-traced and executed with the rest, within
+a bounded number of repairs.
 The same measurement, on the final views, gives the cameras' verdict.
 """
 
