@@ -20,8 +20,22 @@ from lbw_engine.model.env import EnvModel
 from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
-from perception.vision.vfd.base import BLOCK_MIN, HAND_BAND, Region3D, band, region_mask
-from perception.vision.vfd.change import APPEARED, DISAPPEARED, NO_CHANGE, ChangeDetector, Snapshot
+from perception.vision.vfd.base import (
+    BLOCK_MIN,
+    DARK_MAX,
+    HAND_BAND,
+    Region3D,
+    band,
+    region_mask,
+)
+from perception.vision.vfd.change import (
+    APPEARED,
+    AREA_THRESHOLD,
+    DISAPPEARED,
+    NO_CHANGE,
+    ChangeDetector,
+    Snapshot,
+)
 
 PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, align slide)
 PICK_MARGIN_MM = 8.0
@@ -35,6 +49,9 @@ PLAIN_VIEW, KEPT = 0.2, 0.5
 # than FIT_SLACK_MM are checked against the image; the release point needs a block-pixel
 # fraction FIT_MARGIN higher to win (see ChangeNode.placed_x).
 FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
+# A place's change threshold is never asked of fewer changed pixels than a third of this
+# (sensor noise flips single pixels; a 10 mm cube fully in view changes about 10).
+MIN_CHANGE_PX = 6
 
 class ChangeNode(EnvNodeBase):
     """SilDiff: change-detector snapshots of a motion's target region (Sec. III-D1)."""
@@ -79,7 +96,8 @@ class ChangeNode(EnvNodeBase):
         region, size = found
         self.detector.attention(region)
         return {"size": size, "shot": self.detector.take(self.sight.frame),
-                "hold": self.hand.tracker.holding_evidence}
+                "hold": self.hand.tracker.holding_evidence,
+                "place": bool(act.special) and self.hand.held_box(env) is not None}
 
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
         """Appeared / disappeared / no-change, and where (for a place: the release point)."""
@@ -87,7 +105,7 @@ class ChangeNode(EnvNodeBase):
             return None
         det, shot = self.detector, first["shot"]
         det.attention(shot.region)
-        det.area_threshold = self.threshold(shot.region, first["size"])
+        det.area_threshold = self.threshold(shot, first["size"], place=bool(first.get("place")))
         last = det.take(self.sight.frame)
         result = det.judge(shot, last)
         pos = det.target()
@@ -179,11 +197,25 @@ class ChangeNode(EnvNodeBase):
                 return True
         return False
 
-    def threshold(self, region: Region3D, size: Sequence[float]) -> float:
-        """Area fraction that counts as a change: a third of the object's share of the window."""
-        cam = self.sight.cameras["side"]
+    def threshold(self, shot: Snapshot, size: Sequence[float], place: bool = False) -> float:
+        """Area fraction that counts as a change: a third of what the object can change.
+
+        For a pick that is the object's share of the side window. For a place it is the
+        part of the landing box's outline that is dark in the first snapshot: where the
+        block, once set down, turns pixels bright. A tall block held above its spot is
+        already in view there, and a block put on a block lands in front of its
+        support's bright faces; a fixed share of the box would ask those small changes
+        for more pixels than they can give (issue #12, small blocks and pillars).
+        """
+        cam, region = self.sight.cameras["side"], shot.region
         obj = Region3D.around(region.center, size)
+        if place:
+            first = shot.pixels["side"]  # the window is on the snapshot's region again
+            can = region_mask(cam, obj, self.detector.windows["side"][0]) & \
+                (first <= DARK_MAX) & ~band(first, *HAND_BAND)
+            share = max(MIN_CHANGE_PX, int(can.sum())) / max(1, first.size)
+            return float(min(AREA_THRESHOLD, share / 3.0))
         x0, y0, x1, y1 = cam.box_region(obj.lo, obj.hi)
         w0, v0, w1, v1 = cam.box_region(region.lo, region.hi, margin=1)
         share = max(1, (x1 - x0) * (y1 - y0)) / max(1, (w1 - w0) * (v1 - v0))
-        return float(min(0.12, share / 3.0))
+        return float(min(AREA_THRESHOLD, share / 3.0))

@@ -23,6 +23,9 @@ from perception.vision.vfd.search import SilFinder
 
 TOP_TOLERANCE_MM = 15.0  # confirmed targets: tops within this of the highest one (a support set)
 SUPPORT_TOLERANCE_MM = 8.0  # the held block's centre may lie this far off its supports' boxes
+# ... and its footprint must reach each support's to within this share of its narrower side
+# (at most SUPPORT_TOLERANCE_MM): a fixed 8 mm is most of a 10 mm cube (issue #12).
+SUPPORT_SHARE = 0.3
 # The approach is not vertical: at :Near the hand can be 20 mm beside the spot, and it comes
 # in over it while it descends (docs/seeing.md). A held centre up to COMING_MM outside a
 # level's footprint may still be coming in over it: the decision waits until the held block
@@ -160,19 +163,37 @@ class SearchNode(EnvNodeBase):
             return ()
         if held is None:
             return self.grasped(hits, env)
+        reach = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * float(min(held.size[:2])))
         while hits:
             top = max(n.top() for n in hits)
             level = [n for n in hits if n.top() >= top - TOP_TOLERANCE_MM]
+            high = float(held.lo[2]) - top > DECIDE_MM
+            # A support is under the held block: a block of the level it does not reach is
+            # a neighbour beside the spot (a small cube set down in the gap of a row), not
+            # one end of a bridge over that gap.
+            gaps = {n.name: _gap(box(n), held) for n in level}
+            under = [n for n in level if gaps[n.name] <= reach]
+            if not under:
+                if high and min(gaps.values()) <= COMING_MM:
+                    return WAIT
+                hits = [n for n in hits if n not in level]
+                continue
+            level = under
             lo = np.min([box(n).lo for n in level], axis=0)[:2]
             hi = np.max([box(n).hi for n in level], axis=0)[:2]
             out = float(np.max(np.maximum(lo - held.center[:2], held.center[:2] - hi)))
-            high = float(held.lo[2]) - top > DECIDE_MM
             if out <= 0.0 or (out <= SUPPORT_TOLERANCE_MM and not high):
                 return tuple(n.name for n in level)
             if out <= COMING_MM and high:
                 return WAIT
             hits = [n for n in hits if n not in level]
         return ()
+
+
+def _gap(a: Region3D, b: Region3D) -> float:
+    """How far apart the footprints of two boxes are (mm; negative: they overlap)."""
+    return float(np.max(np.maximum(np.asarray(a.lo[:2]) - b.hi[:2],
+                                   np.asarray(b.lo[:2]) - a.hi[:2])))
 
 
 WAIT: tuple[str, ...] = ("",)  # no decision yet (a held block coming in beside a level)
