@@ -167,27 +167,38 @@ class SearchNode(EnvNodeBase):
         while hits:
             top = max(n.top() for n in hits)
             level = [n for n in hits if n.top() >= top - TOP_TOLERANCE_MM]
-            high = float(held.lo[2]) - top > DECIDE_MM
-            # A support is under the held block: a block of the level it does not reach is
-            # a neighbour beside the spot (a small cube set down in the gap of a row), not
-            # one end of a bridge over that gap.
-            gaps = {n.name: _gap(box(n), held) for n in level}
-            under = [n for n in level if gaps[n.name] <= reach]
-            if not under:
-                if high and min(gaps.values()) <= COMING_MM:
-                    return WAIT
-                hits = [n for n in hits if n not in level]
-                continue
-            level = under
-            lo = np.min([box(n).lo for n in level], axis=0)[:2]
-            hi = np.max([box(n).hi for n in level], axis=0)[:2]
-            out = float(np.max(np.maximum(lo - held.center[:2], held.center[:2] - hi)))
-            if out <= 0.0 or (out <= SUPPORT_TOLERANCE_MM and not high):
-                return tuple(n.name for n in level)
-            if out <= COMING_MM and high:
-                return WAIT
             hits = [n for n in hits if n not in level]
+            if float(held.lo[2]) < top - TOP_TOLERANCE_MM:
+                continue  # the held block is already below its top: it comes down beside it
+            verdict = self._level(level, held, top, reach)
+            if verdict is not None:
+                return verdict
         return ()
+
+    @staticmethod
+    def _level(level: list[EnvNode], held: Region3D, top: float, reach: float
+               ) -> tuple[str, ...] | None:
+        """One level's verdict: its blocks under the held one, WAIT, or None (beside it).
+
+        A support is under the held block: a block of the level that the held footprint
+        does not reach (to within ``reach``) is a neighbour beside the spot (a small cube
+        set down in the gap of a row), not one end of a bridge over that gap. While the
+        held block is high, its centre must lie well inside the level (by a share of the
+        level's narrower side, at most SUPPORT_TOLERANCE_MM): a hand coming in over a
+        small neighbour passes over it (issue #12).
+        """
+        high = float(held.lo[2]) - top > DECIDE_MM
+        gaps = {n.name: _gap(box(n), held) for n in level}
+        under = [n for n in level if gaps[n.name] <= reach]
+        if not under:
+            return WAIT if high and min(gaps.values()) <= COMING_MM else None
+        lo = np.min([box(n).lo for n in under], axis=0)[:2]
+        hi = np.max([box(n).hi for n in under], axis=0)[:2]
+        out = float(np.max(np.maximum(lo - held.center[:2], held.center[:2] - hi)))
+        inside = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * float(np.min(hi - lo)))
+        if out <= -inside or (out <= SUPPORT_TOLERANCE_MM and not high):
+            return tuple(n.name for n in under)
+        return WAIT if out <= COMING_MM and high else None
 
 
 def _gap(a: Region3D, b: Region3D) -> float:
