@@ -26,6 +26,7 @@ T = (-140.0, 60.0)
 
 def _pillar():
     """A 17x17x118 pillar held with its foot 70 mm above the spot, then standing there."""
+    # (each maker: block size, support top, start scene, end scene[, held x offset])
     size = (17.0, 17.0, 118.0)
     start = [*hand(T[0], T[1], 250, 17), block(T[0], T[1], size, 70)]
     return size, 0.0, start, [block(T[0], T[1], size), *hand(T[0], T[1], 250)]
@@ -38,17 +39,29 @@ def _small_on_cube():
     return size, 40.0, start, [cube, block(T[0], T[1], size, 40), *hand(T[0], T[1], 110)]
 
 
-@pytest.mark.parametrize("make", [_pillar, _small_on_cube], ids=["pillar", "14mm-on-cube"])
+def _pillar_behind():
+    """A 13 mm pillar coming in 15 mm beside its spot (foot 40 mm up), set down behind
+    another pillar that stands 42 mm in front of it (the side camera looks along +y)."""
+    size = (13.0, 13.0, 115.0)
+    front = block(T[0], T[1] - 42, size)
+    start = [front, *hand(T[0] + 15, T[1], 200, 13), block(T[0] + 15, T[1], size, 40)]
+    return size, 0.0, start, [front, block(T[0], T[1], size), *hand(T[0], T[1], 250)], 15.0
+
+
+@pytest.mark.parametrize("make", [_pillar, _small_on_cube, _pillar_behind],
+                         ids=["pillar", "14mm-on-cube", "pillar-behind-pillar"])
 @pytest.mark.parametrize("noise", [2.0, 8.0], ids=["nominal", "4x"])
 def test_a_place_of_a_small_or_tall_block_is_seen(make, noise):
-    size, top, start, end = make()
+    size, top, start, end, *off = make()
     node = ChangeNode(HandState(Sight(CAMS), RULES), RULES)
-    # The place region of Fig. 6(3), as ChangeNode.region builds it for a held block.
-    region = Region3D.around((T[0], T[1], top + size[2] / 2),
-                             (size[0] + 50, size[1] + 50, size[2]))
+    # The place region of Fig. 6(3), as ChangeNode.region builds it for a held block: over
+    # the held block's centre when the motion began, on the support's top.
+    x = T[0] + (off[0] if off else 0.0)
+    region = Region3D.around((x, T[1], top + size[2] / 2), (size[0] + 50, size[1] + 50, size[2]))
     film, det = Film(noise), node.detector
     det.attention(region)
-    first = det.take(film.shoot(start))
+    load = next(b for b in start if b.kind == "block" and b.center[2] > top + size[2] / 2)
+    first = node.carrying(det.take(film.shoot(start)), Region3D.around(load.center, size))
     det.area_threshold = node.threshold(first, size, place=True)
     assert det.judge(first, det.take(film.shoot(end))) == "appeared"
 

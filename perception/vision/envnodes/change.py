@@ -12,6 +12,7 @@ through the detector's windows (docs/seeing.md).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -52,6 +53,7 @@ FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
 # A place's change threshold is never asked of fewer changed pixels than a third of this
 # (sensor noise flips single pixels; a 10 mm cube fully in view changes about 10).
 MIN_CHANGE_PX = 6
+LOAD_MM = 3.0  # the carried block's outline grown by this (tremor, tracking)
 
 class ChangeNode(EnvNodeBase):
     """SilDiff: change-detector snapshots of a motion's target region (Sec. III-D1)."""
@@ -95,9 +97,23 @@ class ChangeNode(EnvNodeBase):
             return None
         region, size = found
         self.detector.attention(region)
-        return {"size": size, "shot": self.detector.take(self.sight.frame),
-                "hold": self.hand.tracker.holding_evidence,
-                "place": bool(act.special) and self.hand.held_box(env) is not None}
+        shot = self.detector.take(self.sight.frame)
+        held = self.hand.held_box(env) if act.special else None
+        if held is not None:
+            shot = self.carrying(shot, held[1])
+        return {"size": size, "shot": shot, "hold": self.hand.tracker.holding_evidence,
+                "place": held is not None}
+
+    def carrying(self, shot: Snapshot, held: Region3D) -> Snapshot:
+        """``shot`` with the outline of the block the hand carries in it (grown by LOAD_MM).
+
+        The load hangs in a place's region (a tall block above its spot, a hand coming in
+        slanted): the pixels it covers now can only be left by the load itself, never by
+        a block that vanished; a block set down behind another shows little, and the
+        load's leaving pixels would outvote it."""
+        load = Region3D(tuple(np.asarray(held.lo) - LOAD_MM), tuple(np.asarray(held.hi) + LOAD_MM))
+        return replace(shot, load={v: region_mask(self.sight.cameras[v], load, w)
+                                   for v, (w,) in self.detector.windows.items()})
 
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
         """Appeared / disappeared / no-change, and where (for a place: the release point)."""
