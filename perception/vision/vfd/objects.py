@@ -224,11 +224,14 @@ class ObjectFinder(VFD):
 
         ``smallest``: side (px) of the smallest face to find; it sets the coarse step
         (at most the silhouette's width, which includes the crease outline) and the
-        least bright area a face may have (half of its inside).
+        least bright area a face may have (its inside at the worst grid alignment).
         """
         w, h = self.cameras["top"].size
         step = int(min(COARSE, max(1, np.floor(smallest))))
-        min_px = min(MIN_FACE_PX, max(1.0, 0.5 * max(0.0, smallest - 1.0) ** 2))
+        # The crease outline takes up to a pixel on each side of a face, and where the
+        # face falls on the pixel grid decides whether its inside is floor(side - 2) or
+        # more pixels wide: a 12 mm cube (3.8 px) may show only 2 x 2 bright pixels.
+        min_px = min(MIN_FACE_PX, max(1, int(np.floor(smallest - 2.0))) ** 2)
         coarse_win = self.resources.allocate("top", (0, 0, w, h), step=step)
         try:
             coarse = (coarse_win.read(top) > DARK_MAX).astype(np.uint8)
