@@ -228,9 +228,8 @@ class ObjectFinder(VFD):
         """
         w, h = self.cameras["top"].size
         step = int(min(COARSE, max(1, np.floor(smallest))))
-        # The crease outline takes up to a pixel on each side of a face, and where the
-        # face falls on the pixel grid decides whether its inside is floor(side - 2) or
-        # more pixels wide: a 12 mm cube (3.8 px) may show only 2 x 2 bright pixels.
+        # Creases take a pixel each side; at the worst grid alignment the inside is
+        # floor(side - 2) px wide: a 12 mm cube (3.8 px) may show 2 x 2 bright pixels.
         min_px = min(MIN_FACE_PX, max(1, int(np.floor(smallest - 2.0))) ** 2)
         coarse_win = self.resources.allocate("top", (0, 0, w, h), step=step)
         try:
