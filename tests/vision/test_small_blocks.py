@@ -96,6 +96,8 @@ LEVEL_CASES = [  # (id, level, held box, level top, expected: names, WAIT or Non
     ("10mm-on-one-cube", ROW[:1], _held(1, 346, 10, 12), 10.0, ("a",)),
     ("high-over-edge-of-small-cube", ROW[:1], _held(0, 341, 10, 90), 10.0, WAIT),
     ("high-over-middle-of-cube", ROW[:1], _held(0, 344, 10, 90), 10.0, ("a",)),
+    ("high-near-edge-of-wider-cube", [_cube("c", 170, 116, 40)],  # a tower's brick
+     Region3D.around((181.9, 100.5, 182.4), (30, 30, 50)), 40.0, ("c",)),
 ]
 
 

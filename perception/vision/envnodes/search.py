@@ -183,7 +183,8 @@ class SearchNode(EnvNodeBase):
         spot (a small cube set down in the gap of a row), not one end of a bridge over it. While the
         held block is high, its centre must lie well inside the level (by a share of the
         level's narrower side, at most SUPPORT_TOLERANCE_MM): a hand coming in over a
-        small neighbour passes over it (issue #12).
+        small neighbour passes over it (issue #12). Only a level no wider than the held
+        block asks this: over a wider one (a tower's cube) the hand is where it will land.
         """
         high = float(held.lo[2]) - top > DECIDE_MM
         reach = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * float(min(held.size[:2])))
@@ -194,7 +195,9 @@ class SearchNode(EnvNodeBase):
         lo = np.min([box(n).lo for n in under], axis=0)[:2]
         hi = np.max([box(n).hi for n in under], axis=0)[:2]
         out = float(np.max(np.maximum(lo - held.center[:2], held.center[:2] - hi)))
-        inside = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * float(np.min(hi - lo)))
+        narrow = float(np.min(hi - lo))
+        inside = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * narrow) \
+            if narrow <= float(min(held.size[:2])) else 0.0
         if out <= -inside or (out <= reach and not high):
             return tuple(n.name for n in under)
         return WAIT if out <= COMING_MM and high else None
