@@ -18,6 +18,7 @@ from lbw_engine.model.geometry import Vec
 from lbw_engine.rules.commands import GLOBALS, PRIMITIVES, CommandRules, Expr, Step
 
 NULL_MOVE_MM = 0.05  # an amove shorter than this goes nowhere (skip_null_moves)
+CLEAR_MM = 10.0  # a carried block passes this far above the tallest other object
 
 
 @dataclass(frozen=True)
@@ -95,7 +96,7 @@ class Expander:
         if name == "hand-pos":
             return self.model.hand
         if name == "approach-height":
-            return self.rules.approach_height
+            return self.approach_height()
         if name == "open-width":
             return ctx.width
         if name == "wrist":
@@ -106,6 +107,27 @@ class Expander:
             raise InputError(f"the operation's steps use '{name}', which only a fine motion "
                              "gives", file=self.rules.file, where=ctx.where)
         raise InputError(f"unknown name '{name}'", file=self.rules.file, where=ctx.where)
+
+    def approach_height(self) -> float:
+        """The approach height of rules/commands.yaml, raised where what hangs below the grip
+        centre (the fingertips, or the held block's foot) would not clear every other
+        object by CLEAR_MM: a 118 mm pillar gripped near its top hangs 88 mm below the
+        hand, and carried at 200 mm it sweeps over a standing one (issue #12, pillars)."""
+        model, hz = self.model, self.model.hand[2]
+        carried = set(model.held())
+        for name in list(carried):
+            carried.update(model.supported_by(name))
+        below = self.rules.tip
+        tops = [0.0]
+        for node in model.objects():
+            if node.position is None or node.size is None:
+                continue
+            bottom, top = node.position[2] - node.size[2] / 2, node.position[2] + node.size[2] / 2
+            if node.name in carried:
+                below = max(below, hz - bottom)
+            else:
+                tops.append(top)
+        return max(self.rules.approach_height, max(tops) + below + CLEAR_MM)
 
     def _eval(self, expr: Expr, ctx: Context, scope: dict[str, object]) -> object:
         """Evaluate a name or {xy: P, z: Q}."""

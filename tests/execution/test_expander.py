@@ -153,3 +153,23 @@ def test_bad_commands_yaml_is_reported_with_file_and_line(tmp_path, old, new, ne
     pairs = zip(text.splitlines(), bad.splitlines(), strict=False)
     changed = next(i for i, (a, b) in enumerate(pairs, 1) if a != b)
     assert abs(err.line - changed) <= 3
+
+
+# Issue #12 class 3: a 118 mm pillar gripped near its top hangs 88 mm below the grip centre;
+# carried at the fixed approach height it swept over a standing pillar and knocked it down.
+PILLAR = (17.0, 17.0, 118.0)
+APPROACH_CASES = [  # (id, hand z, holds the pillar, expected approach height)
+    ("empty-hand-over-pillar", 150.0, False, max(A, 118.0 + RULES.tip + 10.0)),
+    ("carried-pillar-over-pillar", 148.0, True, max(A, 118.0 + (148.0 - 30.0) + 10.0)),
+]
+
+
+@pytest.mark.parametrize("hand_z,holds,expected", [c[1:] for c in APPROACH_CASES],
+                         ids=[c[0] for c in APPROACH_CASES])
+def test_the_approach_height_clears_the_tallest_object(hand_z, holds, expected):
+    bodies = {"standing": Body("pillar", PILLAR, (0.0, 200.0, 59.0)),
+              "carried": Body("pillar", PILLAR, (100.0, 100.0, 89.0))}  # foot at z = 30
+    model = EnvModel.measured(RULESET, bodies, (100.0, 100.0, hand_z))
+    if holds:
+        model.hold("carried")
+    assert Expander(RULES, model).approach_height() == pytest.approx(expected)

@@ -12,6 +12,7 @@ through the detector's windows (docs/seeing.md).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -20,9 +21,17 @@ from lbw_engine.model.env import EnvModel
 from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
-from perception.vision.vfd.base import BLOCK_MIN, HAND_BAND, Region3D, band, region_mask
+from perception.vision.vfd.base import (
+    BLOCK_MIN,
+    DARK_MAX,
+    HAND_BAND,
+    Region3D,
+    band,
+    region_mask,
+)
 from perception.vision.vfd.change import (
     APPEARED,
+    AREA_THRESHOLD,
     DISAPPEARED,
     NO_CHANGE,
     ChangeDetector,
@@ -42,6 +51,10 @@ PLAIN_VIEW, KEPT = 0.2, 0.5
 # than FIT_SLACK_MM are checked against the image; the release point needs a block-pixel
 # fraction FIT_MARGIN higher to win (see ChangeNode.placed_x).
 FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
+# A place's change threshold is never asked of fewer changed pixels than a third of this
+# (sensor noise flips single pixels; a 10 mm cube fully in view changes about 10).
+MIN_CHANGE_PX = 6
+LOAD_MM = 3.0  # the carried block's outline grown by this (tremor, tracking)
 
 class ChangeNode(EnvNodeBase):
     """SilDiff: change-detector snapshots of a motion's target region (Sec. III-D1)."""
@@ -85,8 +98,23 @@ class ChangeNode(EnvNodeBase):
             return None
         region, size = found
         self.detector.attention(region)
-        return {"size": size, "shot": self.detector.take(self.sight.frame),
-                "hold": self.hand.tracker.holding_evidence}
+        shot = self.detector.take(self.sight.frame)
+        held = self.hand.held_box(env) if act.special else None
+        if held is not None:
+            shot = self.carrying(shot, held[1])
+        return {"size": size, "shot": shot, "hold": self.hand.tracker.holding_evidence,
+                "place": held is not None}
+
+    def carrying(self, shot: Snapshot, held: Region3D) -> Snapshot:
+        """``shot`` with the outline of the block the hand carries in it (grown by LOAD_MM).
+
+        The load hangs in a place's region (a tall block above its spot, a hand coming in
+        slanted): the pixels it covers now can only be left by the load itself, never by
+        a block that vanished; a block set down behind another shows little, and the
+        load's leaving pixels would outvote it."""
+        load = Region3D(tuple(np.asarray(held.lo) - LOAD_MM), tuple(np.asarray(held.hi) + LOAD_MM))
+        return replace(shot, load={v: region_mask(self.sight.cameras[v], load, w)
+                                   for v, (w,) in self.detector.windows.items()})
 
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
         """Appeared / disappeared / no-change, and where (for a place: the release point)."""
@@ -94,7 +122,7 @@ class ChangeNode(EnvNodeBase):
             return None
         det, shot = self.detector, first["shot"]
         det.attention(shot.region)
-        det.area_threshold = self.threshold(shot.region, first["size"])
+        det.area_threshold = self.threshold(shot, first["size"], place=bool(first.get("place")))
         last = det.take(self.sight.frame)
         result = det.judge(shot, last)
         pos = det.target()
@@ -189,11 +217,25 @@ class ChangeNode(EnvNodeBase):
                 return True
         return False
 
-    def threshold(self, region: Region3D, size: Sequence[float]) -> float:
-        """Area fraction that counts as a change: a third of the object's share of the window."""
-        cam = self.sight.cameras["side"]
+    def threshold(self, shot: Snapshot, size: Sequence[float], place: bool = False) -> float:
+        """Area fraction that counts as a change: a third of what the object can change.
+
+        For a pick that is the object's share of the side window. For a place it is the
+        part of the landing box's outline that is dark in the first snapshot: where the
+        block, once set down, turns pixels bright. A tall block held above its spot is
+        already in view there, and a block put on a block lands in front of its
+        support's bright faces; a fixed share of the box would ask those small changes
+        for more pixels than they can give (issue #12, small blocks and pillars).
+        """
+        cam, region = self.sight.cameras["side"], shot.region
         obj = Region3D.around(region.center, size)
+        if place:
+            first = shot.pixels["side"]  # the window is on the snapshot's region again
+            can = region_mask(cam, obj, self.detector.windows["side"][0]) & \
+                (first <= DARK_MAX) & ~band(first, *HAND_BAND)
+            share = max(MIN_CHANGE_PX, int(can.sum())) / max(1, first.size)
+            return float(min(AREA_THRESHOLD, share / 3.0))
         x0, y0, x1, y1 = cam.box_region(obj.lo, obj.hi)
         w0, v0, w1, v1 = cam.box_region(region.lo, region.hi, margin=1)
         share = max(1, (x1 - x0) * (y1 - y0)) / max(1, (w1 - w0) * (v1 - v0))
-        return float(min(0.12, share / 3.0))
+        return float(min(AREA_THRESHOLD, share / 3.0))

@@ -23,6 +23,9 @@ from perception.vision.vfd.search import SilFinder
 
 TOP_TOLERANCE_MM = 15.0  # confirmed targets: tops within this of the highest one (a support set)
 SUPPORT_TOLERANCE_MM = 8.0  # the held block's centre may lie this far off its supports' boxes
+# ... and its footprint must reach each support's, both to within this share of its narrower
+# side when that is less: a fixed 8 mm is most of a 10 mm cube (issue #12).
+SUPPORT_SHARE = 0.3
 # The approach is not vertical: at :Near the hand can be 20 mm beside the spot, and it comes
 # in over it while it descends (docs/seeing.md). A held centre up to COMING_MM outside a
 # level's footprint may still be coming in over it: the decision waits until the held block
@@ -184,16 +187,47 @@ class SearchNode(EnvNodeBase):
         while hits:
             top = max(n.top() for n in hits)
             level = [n for n in hits if n.top() >= top - TOP_TOLERANCE_MM]
-            lo = np.min([box(n).lo for n in level], axis=0)[:2]
-            hi = np.max([box(n).hi for n in level], axis=0)[:2]
-            out = float(np.max(np.maximum(lo - held.center[:2], held.center[:2] - hi)))
-            high = float(held.lo[2]) - top > DECIDE_MM
-            if out <= 0.0 or (out <= SUPPORT_TOLERANCE_MM and not high):
-                return tuple(n.name for n in level)
-            if out <= COMING_MM and high:
-                return WAIT
             hits = [n for n in hits if n not in level]
+            if float(held.lo[2]) < top - TOP_TOLERANCE_MM:
+                continue  # the held block is already below its top: it comes down beside it
+            verdict = self._level(level, held, top)
+            if verdict is not None:
+                return verdict
         return ()
+
+    @staticmethod
+    def _level(level: list[EnvNode], held: Region3D, top: float) -> tuple[str, ...] | None:
+        """One level's verdict: its blocks under the held one, WAIT, or None (beside it).
+
+        A support is under the held block: a block of the level that the held footprint
+        does not reach (to within a share of its narrower side) is a neighbour beside the
+        spot (a small cube set down in the gap of a row), not one end of a bridge over it. While the
+        held block is high, its centre must lie well inside the level (by a share of the
+        level's narrower side, at most SUPPORT_TOLERANCE_MM): a hand coming in over a
+        small neighbour passes over it (issue #12). Only a level no wider than the held
+        block asks this: over a wider one (a tower's cube) the hand is where it will land.
+        """
+        high = float(held.lo[2]) - top > DECIDE_MM
+        reach = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * float(min(held.size[:2])))
+        gaps = {n.name: _gap(box(n), held) for n in level}
+        under = [n for n in level if gaps[n.name] <= reach]
+        if not under:
+            return WAIT if high and min(gaps.values()) <= COMING_MM else None
+        lo = np.min([box(n).lo for n in under], axis=0)[:2]
+        hi = np.max([box(n).hi for n in under], axis=0)[:2]
+        out = float(np.max(np.maximum(lo - held.center[:2], held.center[:2] - hi)))
+        narrow = float(np.min(hi - lo))
+        inside = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * narrow) \
+            if narrow <= float(min(held.size[:2])) else 0.0
+        if out <= -inside or (out <= reach and not high):
+            return tuple(n.name for n in under)
+        return WAIT if out <= COMING_MM and high else None
+
+
+def _gap(a: Region3D, b: Region3D) -> float:
+    """How far apart the footprints of two boxes are (mm; negative: they overlap)."""
+    return float(np.max(np.maximum(np.asarray(a.lo[:2]) - b.hi[:2],
+                                   np.asarray(b.lo[:2]) - a.hi[:2])))
 
 
 WAIT: tuple[str, ...] = ("",)  # no decision yet (a held block coming in beside a level)

@@ -41,6 +41,9 @@ class Snapshot:
     region: Region3D
     rects: dict[str, tuple[int, int, int, int]]
     pixels: dict[str, np.ndarray]
+    # Window pixels a carried block covers in this snapshot: when it is the first one,
+    # they show the load on its way down, and their change counts as nothing gone.
+    load: dict[str, np.ndarray] | None = None
 
 
 class ChangeDetector(VFD):
@@ -90,6 +93,8 @@ class ChangeDetector(VFD):
             hand = hand_a | hand_b
             obj_a, obj_b = (a > DARK_MAX) & ~hand, (b > DARK_MAX) & ~hand
             appeared, gone = obj_b & ~obj_a, obj_a & ~obj_b
+            if first.load is not None:
+                gone &= ~first.load[v]
             net = (int(appeared.sum()) - int(gone.sum())) / max(1, a.size)
             votes[v] = net
             self.changed_fraction[v] = abs(net)

@@ -216,12 +216,9 @@ class ObjectFinder(VFD):
         return float(ends[1] - ends[0]), float(ends[0] + ends[1]) / 2.0
 
     def _smallest_face_px(self, shapes: Mapping[str, Sequence[float]]) -> float:
-        """Side (px) of the smallest top face the database allows, on the table in the top view.
-
-        The coarse look must not step over it and the face threshold must not drop it:
-        a 10 mm cube is about 3 px wide, and its crease outline leaves 1-4 bright pixels
-        (issue #12 class 3).
-        """
+        """Side (px) of the smallest top face the database allows, on the table in the top
+        view: the coarse look must not step over it and the face threshold must not drop it
+        (a 10 mm cube is about 3 px wide; issue #12 class 3)."""
         cam = self.cameras["top"]
         side = min((min(float(s[0]), float(s[1])) for s in shapes.values()), default=30.0)
         return side * cam.mm_to_px((0.0, 200.0, 0.0))
@@ -232,11 +229,13 @@ class ObjectFinder(VFD):
 
         ``smallest``: side (px) of the smallest face to find; it sets the coarse step
         (at most the silhouette's width, which includes the crease outline) and the
-        least bright area a face may have (half of its inside).
+        least bright area a face may have (its inside between the creases, a pixel each
+        side, at the worst grid alignment: floor(side - 2) px wide).
         """
         w, h = self.cameras["top"].size
         step = int(min(COARSE, max(1, np.floor(smallest))))
-        min_px = min(MIN_FACE_PX, max(1.0, 0.5 * max(0.0, smallest - 1.0) ** 2))
+        # The inside at the worst grid alignment: a 12 mm cube (3.8 px) may show 2 x 2 px.
+        min_px = min(MIN_FACE_PX, max(1, int(np.floor(smallest - 2.0))) ** 2)
         coarse_win = self.resources.allocate("top", (0, 0, w, h), step=step)
         try:
             coarse = (coarse_win.read(top) > DARK_MAX).astype(np.uint8)
