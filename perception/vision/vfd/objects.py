@@ -19,15 +19,9 @@ import cv2
 import numpy as np
 
 from perception.vision.frames import Frame
+from perception.vision.vfd import objects_rings as rims
 from perception.vision.vfd.base import DARK_MAX, VFD
 from perception.vision.vfd.objects_match import SilhouetteCheck, assign, nearest
-from perception.vision.vfd.objects_rings import (
-    complete_rim,
-    complete_rims,
-    cover_of,
-    find_rims,
-    within,
-)
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
@@ -100,11 +94,9 @@ class ObjectFinder(VFD):
             if score < MIN_SCORE:
                 continue
             boxes.append((height, self._footprint(rect, height), rect))
-        rings = find_rims(boxes, 0.6 * smallest)
-        # every piece of a rim, not the face it rims (a whole ring's extents hold that too)
-        framing = {i for i, b in enumerate(boxes)
-                   if i not in rings and any(within(b[2], r) for r in rings.values())}
-        boxes = complete_rims(boxes, framing, self._footprint, shapes)
+        rings = rims.find_rims(boxes, 0.6 * smallest)
+        framing = rims.pieces(boxes, rings)
+        boxes = rims.complete_rims(boxes, framing, self._footprint, shapes)
         found = []
         for k, (height, (x0, y0, x1, y1), _) in enumerate(boxes):
             if k in framing:
@@ -157,7 +149,7 @@ class ObjectFinder(VFD):
             if rest < 5.0 or not self._crease_at(cam, side, (cx, front, seam)):
                 continue
             if ring is not None:  # the lower block's outline is the ring's, or shows in it
-                done = complete_rim(self._footprint(ring, seam), cover_of(
+                done = rims.complete_rim(self._footprint(ring, seam), rims.cover_of(
                     obj, self._footprint(face, seam)), (cx, cy), rest, shapes)
                 if done is None:
                     continue
@@ -169,7 +161,7 @@ class ObjectFinder(VFD):
                     continue
                 width, mid = run
                 # wider than what the upper block hides from above: its top would show
-                c0, d0, c1, d1 = cover_of(obj, self._footprint(face, seam))
+                c0, d0, c1, d1 = rims.cover_of(obj, self._footprint(face, seam))
                 fits = {n: abs(lx - width) + abs(lz - rest)
                         for n, (lx, ly, lz) in shapes.items()
                         if lx <= max(sx, c1 - c0) + 8.0 and ly <= max(sy, d1 - d0) + 8.0}

@@ -156,6 +156,13 @@ def complete_rim(rim: Sequence[float], cover: Sequence[float], upper: Sequence[f
     return name, (float(centre[0]), float(centre[1])), (float(extent[0]), float(extent[1])), err
 
 
+def pieces(boxes: list[Box], rings: Mapping[int, tuple]) -> set[int]:
+    """The boxes that are pieces of a rim (not the faces rimmed: a whole ring's extents
+    hold its upper face too)."""
+    return {i for i, b in enumerate(boxes)
+            if i not in rings and any(within(b[2], r) for r in rings.values())}
+
+
 def within(rect: Sequence[float], outer: Sequence[float]) -> bool:
     """Whether pixel rectangle ``rect`` lies inside ``outer`` (a rim piece in its rim)."""
     return outer[0] <= rect[0] and outer[1] <= rect[1] and rect[2] <= outer[2] \
