@@ -114,3 +114,16 @@ def test_a_post_standing_on_a_cube_is_found_as_two_objects(at, off):
         near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
         assert near.shape == shape
         assert np.linalg.norm(np.subtract(near.position, box.center)) < 4.0
+
+
+def test_the_top_of_a_three_block_stack_is_found():
+    """A 30x30x20 tile on a 40 mm cube on a 50 mm block (the rearrange family, seed 1069):
+    the cube's face is a rim of the block and rims the tile; it must not be taken for a
+    rim piece, or the tile's face is lost and the first pick is of nothing."""
+    shapes = {"tile": (30, 30, 20), "cube": (40, 40, 40), "block": (50, 50, 50)}
+    stack = [block(-91, 346, shapes["block"]), block(-91, 346, shapes["cube"], 50),
+             block(-91, 346, shapes["tile"], 90)]
+    found = ObjectFinder(CAMS, VisionResources()).find(Film(seed=5).shoot(stack), shapes)
+    tiles = [f for f in found if f.shape == "tile"]
+    assert len(tiles) == 1
+    assert np.linalg.norm(np.subtract(tiles[0].position, stack[2].center)) < 4.0

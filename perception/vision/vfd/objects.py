@@ -95,7 +95,7 @@ class ObjectFinder(VFD):
                 continue
             boxes.append((height, self._footprint(rect, height), rect))
         rings = rims.find_rims(boxes, 0.6 * smallest)
-        framing = rims.pieces(boxes, rings)
+        framing = rims.pieces(boxes, rings, 0.6 * smallest)
         boxes = rims.complete_rims(boxes, framing, self._footprint, shapes)
         found = []
         for k, (height, (x0, y0, x1, y1), _) in enumerate(boxes):

@@ -156,11 +156,14 @@ def complete_rim(rim: Sequence[float], cover: Sequence[float], upper: Sequence[f
     return name, (float(centre[0]), float(centre[1])), (float(extent[0]), float(extent[1])), err
 
 
-def pieces(boxes: list[Box], rings: Mapping[int, tuple]) -> set[int]:
-    """The boxes that are pieces of a rim (not the faces rimmed: a whole ring's extents
-    hold its upper face too)."""
-    return {i for i, b in enumerate(boxes)
-            if i not in rings and any(within(b[2], r) for r in rings.values())}
+def pieces(boxes: list[Box], rings: Mapping[int, tuple], sliver_px: float) -> set[int]:
+    """The boxes that are a rim, or a sliver of one (a rim seen in several pieces): not
+    the faces rimmed, nor a face that is both (the middle block of a three-block stack)."""
+    def sliver(rect: Sequence[float]) -> bool:
+        return min(rect[2] - rect[0], rect[3] - rect[1]) < sliver_px
+
+    return {i for i, b in enumerate(boxes) if b[2] in rings.values() or (
+        i not in rings and sliver(b[2]) and any(within(b[2], r) for r in rings.values()))}
 
 
 def within(rect: Sequence[float], outer: Sequence[float]) -> bool:
