@@ -24,6 +24,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 
 import cv2
+import networkx as nx
 import numpy as np
 
 from perception.vision.camera import Camera
@@ -160,39 +161,29 @@ def _structures(expected: Mapping[str, Expected], cameras: Mapping[str, Camera]
     names = sorted(expected)
     rects = {n: [_rect(cam, expected[n][1], expected[n][2]) for cam in cameras.values()]
              for n in names}
-    group = {n: {n} for n in names}
-    for i, a in enumerate(names):
-        for b in names[i + 1:]:
-            if group[a] is not group[b] and any(
-                    min(ra[2], rb[2]) > max(ra[0], rb[0]) and min(ra[3], rb[3]) > max(ra[1], rb[1])
-                    for ra, rb in zip(rects[a], rects[b], strict=True)):
-                merged = group[a] | group[b]
-                for n in merged:
-                    group[n] = merged
-    out: list[list[str]] = []
-    for g in group.values():
-        if sorted(g) not in out:
-            out.append(sorted(g))
-    return out
+    return _components(names, lambda a, b: any(
+        min(ra[2], rb[2]) > max(ra[0], rb[0]) and min(ra[3], rb[3]) > max(ra[1], rb[1])
+        for ra, rb in zip(rects[a], rects[b], strict=True)))
 
 
 def _stacks(group: list[str], expected: Mapping[str, Expected]) -> list[list[str]]:
     """The group's blocks joined where their footprints overlap (one rests on, or over,
     the other), transitively: the stacks and bridges the group is made of."""
-    part = {n: {n} for n in group}
-    for i, a in enumerate(group):
-        for b in group[i + 1:]:
-            (ca, sa), (cb, sb) = expected[a][1:], expected[b][1:]
-            if part[a] is not part[b] and all(
-                    abs(ca[k] - cb[k]) < (sa[k] + sb[k]) / 2.0 for k in (0, 1)):
-                merged = part[a] | part[b]
-                for n in merged:
-                    part[n] = merged
-    out: list[list[str]] = []
-    for members in part.values():
-        if sorted(members) not in out:
-            out.append(sorted(members))
-    return out
+    def meet(a: str, b: str) -> bool:
+        (ca, sa), (cb, sb) = expected[a][1:], expected[b][1:]
+        return all(abs(ca[k] - cb[k]) < (sa[k] + sb[k]) / 2.0 for k in (0, 1))
+
+    return _components(group, meet)
+
+
+def _components(names: Sequence[str], joined: Callable[[str, str], bool]) -> list[list[str]]:
+    """``names`` joined pairwise by ``joined``, transitively; each part sorted, the parts in
+    the order of their first name."""
+    graph = nx.Graph()
+    graph.add_nodes_from(names)
+    graph.add_edges_from((a, b) for i, a in enumerate(names) for b in names[i + 1:]
+                         if joined(a, b))
+    return [sorted(part) for part in nx.connected_components(graph)]
 
 
 def _rect(cam: Camera, center: Sequence[float], size: Sequence[float]
