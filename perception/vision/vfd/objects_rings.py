@@ -39,10 +39,9 @@ def find_rims(boxes: list[Box], sliver_px: float) -> dict[int, tuple]:
     parts: dict[int, list[tuple]] = {}
     for i, (h_out, _, outer) in enumerate(boxes):
         for j, (h_in, _, inner) in enumerate(boxes):
-            if i == j or min(inner[2] - inner[0], inner[3] - inner[1]) < sliver_px:
+            if i == j or _thin(inner, sliver_px):
                 continue  # a face thinner than any top face is a rim piece, never framed
-            sliver = min(outer[2] - outer[0], outer[3] - outer[1]) < sliver_px <= min(
-                inner[2] - inner[0], inner[3] - inner[1]) and _touches(outer, inner)
+            sliver = _thin(outer, sliver_px) and _touches(outer, inner)
             framed = frames(outer, inner) and h_out >= h_in - 3.0
             partial = not frames(outer, inner) and area_of(outer) > area_of(inner) and \
                 holds_centre(outer, inner)
@@ -159,11 +158,14 @@ def complete_rim(rim: Sequence[float], cover: Sequence[float], upper: Sequence[f
 def pieces(boxes: list[Box], rings: Mapping[int, tuple], sliver_px: float) -> set[int]:
     """The boxes that are a rim, or a sliver of one (a rim seen in several pieces): not
     the faces rimmed, nor a face that is both (the middle block of a three-block stack)."""
-    def sliver(rect: Sequence[float]) -> bool:
-        return min(rect[2] - rect[0], rect[3] - rect[1]) < sliver_px
-
     return {i for i, b in enumerate(boxes) if b[2] in rings.values() or (
-        i not in rings and sliver(b[2]) and any(within(b[2], r) for r in rings.values()))}
+        i not in rings and _thin(b[2], sliver_px) and any(within(b[2], r)
+                                                          for r in rings.values()))}
+
+
+def _thin(rect: Sequence[float], px: float) -> bool:
+    """Whether pixel rectangle ``rect`` is narrower than ``px`` on its shorter side."""
+    return min(rect[2] - rect[0], rect[3] - rect[1]) < px
 
 
 def within(rect: Sequence[float], outer: Sequence[float]) -> bool:
