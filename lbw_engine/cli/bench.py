@@ -348,6 +348,8 @@ def run(args: argparse.Namespace) -> int:
         local_workers(args.cluster)  # a bad local:N is bad input before any work
     out, recs = _files(args)
     families = parse_families(args.families)
+    if args.faults:  # faults are about the robot's repairs: on the classic structures unless asked
+        families = families or ("classic",)
     rules = str(Path(args.rules).resolve()) if args.rules else None  # workers may start elsewhere
     if args.scenarios:
         from perception.world.generator import generate
@@ -360,9 +362,8 @@ def run(args: argparse.Namespace) -> int:
     if args.faults:
         from lbw_engine.cli.bench_faults import run_faults
 
-        # faults are about the robot's repairs: on the classic structures unless asked
-        return run_faults(args, out, recs, rules,
-                          tasks(args.count, args.seed, families or ("classic",)), records_text)
+        return run_faults(args, out, recs, rules, tasks(args.count, args.seed, families),
+                          records_text)
     partial = recs.with_name(recs.name + ".partial")
     partial.parent.mkdir(parents=True, exist_ok=True)
     doc = bench(args.count, args.seed, args.jobs, rules, args.cluster, partial, args.resume,

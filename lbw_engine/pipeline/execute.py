@@ -33,6 +33,7 @@ from lbw_engine.pipeline.monitor import (
     run_monitored,
     step_aside,
 )
+from lbw_engine.pipeline.robotwatch import RobotWatch
 from lbw_engine.rules import RuleSet
 
 SETTLE_S = 2.0  # seconds the world runs after the last command before measuring
@@ -103,17 +104,19 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     shape_of = {n: taught[n]["shape"] for n in matching.assigned}
     eyes = Eyes(world, renderer, sc.shapes, shape_of)
     injector = FaultInjector(world, sc.faults, {n: n for n in world.names})
-    robot = Robot(world, rules.arm_frame, rules.home, on_step=_steps(injector, on_step),
+    watch = RobotWatch(Renderer(default_cameras(), pixel_noise=sc.noise.pixel, seed=sc.seed + 1),
+                       sc.shapes, ruleset) if via != "bt" else None
+    robot = Robot(world, rules.arm_frame, rules.home, on_step=_steps(injector, watch, on_step),
                   finger=rules.finger, max_opening=rules.max_opening)
     report["via"] = via
-    mon = Monitored()
+    mon = Monitored(watch=watch)
     report["monitor"] = {"detections": mon.detections, "repairs": mon.repairs,
-                         "units": mon.spans}
+                         "units": mon.spans, "operations": mon.operations}
     if hasattr(on_step, "follow"):  # a recorder that shows the monitor (pictures)
         on_step.follow(mon, robot, eyes)
     try:
         if fresh is None:
-            run_monitored(plan, ruleset, model, robot, eyes, injector, mon)
+            run_monitored(plan, ruleset, model, robot, eyes, injector, mon, watch)
             tr, model, log = Trace(mon.ops, mon.model), mon.model, robot.log
         else:
             from lbw_engine.do.behaviour import run_tree
@@ -165,10 +168,14 @@ def _toppled(world: Any) -> list[str]:
     return sorted(n for n, a in world.angles().items() if abs(a) > TOPPLE_RAD)
 
 
-def _steps(injector: Any, on_step: Callable[[Any], None] | None) -> Callable[[Any], None]:
-    """The robot's per-step hook: the world's faults first, then the caller's (frames)."""
+def _steps(injector: Any, watch: Any, on_step: Callable[[Any], None] | None
+           ) -> Callable[[Any], None]:
+    """The robot's per-step hook: the world's faults first, then the monitor's eyes on the
+    robot (frames rendered once, reused by the caller's video), then the caller's."""
     def step(world: Any) -> None:
         injector.on_step(world)
+        if watch is not None:
+            watch(world)
         if on_step is not None:
             on_step(world)
     return step

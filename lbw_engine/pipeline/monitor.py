@@ -4,9 +4,12 @@ The traced plan is executed one ACHIEVE at a time (lbw_engine.do.monitor).
 After each, the robot steps out of the cameras' view, the world runs briefly
 (a dropped or toppled block comes to rest) and the object-finder measures the
 workspace from the two images; the measured state is compared with the state
-the trace expects after that ACHIEVE. A difference is a detection; the
-measured state is matched against the plan again and the undone ACHIEVEs are
-re-traced and executed with the rest, within a bounded number of repairs.
+the trace expects after that ACHIEVE; the operations the demonstration's
+recognizer saw the gripper do during it (``robotwatch``) are compared with the
+executed ones (``lbw_engine.do.opcheck``). A difference is a detection; a state
+difference starts a repair: the measured state is matched against the plan
+again and the undone ACHIEVEs are re-traced and executed with the rest, within
+a bounded number of repairs.
 The same measurement, on the final views, gives the cameras' verdict.
 """
 
@@ -30,6 +33,13 @@ from lbw_engine.do.monitor import (
     undone,
     unit_of,
     units,
+)
+from lbw_engine.do.opcheck import (
+    differences,
+    executed_ops,
+    moving_operations,
+    operation_detections,
+    recognized_ops,
 )
 from lbw_engine.do.plan import Plan
 from lbw_engine.do.tracing import TracedOp, trace
@@ -110,16 +120,22 @@ class Monitored:
     rounds: int = 0  # repairs begun
     spans: list[dict] = field(default_factory=list)  # each unit: operator, t_start, t_end
     current: str | None = None  # the ACHIEVE under way (the execution video shows it)
+    operations: list[dict] = field(default_factory=list)  # each unit: executed vs recognized
+    watch: Any = None  # the RobotWatch whose frames the execution video reuses
 
 
 def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eyes: Eyes,
-                  injector: Any | None = None, out: Monitored | None = None) -> Monitored:
+                  injector: Any | None = None, out: Monitored | None = None,
+                  watch: Any | None = None) -> Monitored:
     """Execute ``plan`` one ACHIEVE at a time, watching and repairing; TaskFailed when a
     repair is impossible or the repairs run out (the message names the object).
 
-    ``out`` collects the record as it grows (it is complete even when TaskFailed)."""
+    ``out`` collects the record as it grows (it is complete even when TaskFailed).
+    ``watch`` (a RobotWatch on the robot's steps) recognizes each unit's operations."""
     rules = ruleset.commands
     names = list(eyes.shape_of)
+    moving = moving_operations(ruleset.effects)
+    hint = {n: (eyes.shape_of[n], tuple(model.bodies[n].position[:2])) for n in names}
     unit_names = set(unit_of(plan).values())
     snaps: dict[str, tuple] = {}
 
@@ -140,6 +156,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         out.current, t0 = unit.operator, robot.world.time
         if injector is not None:
             injector.begin(out.units)
+        if watch is not None:
+            watch.begin(hint)
         robot.execute(unit.commands)
         if injector is not None:
             injector.end(out.units)
@@ -147,9 +165,14 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         done.append(unit)
         step_aside(robot, rules)
         robot.settle(LOOK_SETTLE_S)
+        seen_ops = [] if watch is None else _compare_ops(
+            unit, watch.end(), moving, robot.world.time, out.operations)
+        out.detections.extend(seen_ops)
         seen = eyes.look(unit.expected)
         out.spans.append({"operator": unit.operator, "t_start": round(t0, 2),
                           "t_end": round(robot.world.time, 2)})
+        hint.update({n: (eyes.shape_of[n], tuple(st.position[:2]))
+                     for n, st in seen.states.items() if n in eyes.shape_of})
         verdict = verify(unit.expected, unit.supports, seen.states, rules.support_relations)
         if verdict.success:
             continue
@@ -182,6 +205,21 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
                             "t": round(robot.world.time, 2)}
                            for u in todo if u.operator in again)
     return out
+
+
+def _compare_ops(unit: Unit, nodes: list, moving: Mapping[str, tuple], t: float,
+                 record: list[dict]) -> list[dict]:
+    """The unit's recognized operations against its executed ones (do/opcheck.py): the
+    object-moving ones must agree in order; all are recorded in ``record``."""
+    done, seen = executed_ops(unit.ops, moving), recognized_ops(nodes, moving)
+    diffs = differences(done, seen)
+    record.append({"operator": unit.operator,
+                   "executed": [o.operation for o in unit.ops if not o.skipped],
+                   "recognized": [n.operation for n in nodes],
+                   "moving": {"executed": [o.text() for o in done],
+                              "recognized": [o.text() for o in seen]},
+                   "agree": not diffs})
+    return operation_detections(unit.operator, diffs, t)
 
 
 def step_aside(robot: Any, rules: Any) -> None:

@@ -37,6 +37,7 @@ class ActNode:
     features: dict[str, Any] = field(default_factory=dict)
     measured: dict[str, Any] = field(default_factory=dict)  # feature -> measured position
     found_by: dict[str, tuple[str, ...]] = field(default_factory=dict)  # feature -> names
+    bound: dict[str, tuple[str, ...]] = field(default_factory=dict)  # effect variable -> names
 
     def slot(self, name: str) -> tuple[str, ...]:
         """The names in slot ``name`` (base, target or special)."""

@@ -277,7 +277,7 @@ class Recognizer:
                                                   compared)
         node.operation = actmodel.classify(self.rules, node.motion, node.features)
         if node.operation in self.rules.effects:
-            binds = actmodel.effect_bindings(self.rules, node, self.env)
+            node.bound = binds = actmodel.effect_bindings(self.rules, node, self.env)
             apply_effect(self.env, self.rules.effects[node.operation], binds, node.measured)
         node.final_state = self.env.snapshot(node.nodes())
         if node.initial_state is not None:

@@ -170,7 +170,8 @@ class ExecutionRecorder:
         if self.next_t is not None and world.time < self.next_t - 1e-9:
             return
         self.next_t = (world.time if self.next_t is None else self.next_t) + self.period
-        views = self.renderer.render(world.scene())
+        watch = getattr(self.monitor, "watch", None)  # the monitor's eyes on the robot
+        views = watch.render(world) if watch is not None else self.renderer.render(world.scene())
         operation, lines, windows = self._panel()
         image = draw_monitor(views["top"], views["side"], windows, lines, operation,
                              world.time, self.scale)

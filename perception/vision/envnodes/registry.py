@@ -52,6 +52,16 @@ def perception_detectors(hand: HandState, rules: RuleSet, shapes: Mapping[str, S
     return out
 
 
+def new_recognizer(cameras: Mapping[str, Camera], shapes: Mapping[str, Sequence[float]],
+                   rules: RuleSet, names: Mapping[str, tuple[str, Sequence[float]]] | None = None
+                   ) -> tuple[Recognizer, HandState]:
+    """A recognizer wired to fresh image-backed ENV-nodes, to be fed frames with ``step``
+    (``watch_frames`` does; so does the robot's execution monitor, one per ACHIEVE)."""
+    hand = HandState(Sight(cameras), rules)
+    registry = DetectorRegistry.for_rules(rules, perception_detectors(hand, rules, shapes, names))
+    return Recognizer(rules, registry), hand
+
+
 def watch_frames(frames: Iterable[Frame], cameras: Mapping[str, Camera],
                  shapes: Mapping[str, Sequence[float]], rules: RuleSet,
                  names: Mapping[str, tuple[str, Sequence[float]]] | None = None,
@@ -63,9 +73,7 @@ def watch_frames(frames: Iterable[Frame], cameras: Mapping[str, Camera],
     display). Returns the recognizer and the tracked hand (its ``sight`` counts the
     pixels read).
     """
-    hand = HandState(Sight(cameras), rules)
-    registry = DetectorRegistry.for_rules(rules, perception_detectors(hand, rules, shapes, names))
-    recognizer = Recognizer(rules, registry)
+    recognizer, hand = new_recognizer(cameras, shapes, rules, names)
     for frame in frames:
         if recognizer.finished:
             break
@@ -76,4 +84,4 @@ def watch_frames(frames: Iterable[Frame], cameras: Mapping[str, Camera],
     return recognizer, hand
 
 
-__all__ = ["NODES", "VOCABULARY", "perception_detectors", "watch_frames"]
+__all__ = ["NODES", "VOCABULARY", "new_recognizer", "perception_detectors", "watch_frames"]

@@ -35,6 +35,14 @@ DECIDE_MM = 60.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
 MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target) lasts longer
+# A hand carrying an object that stops before it has gone anywhere (x, y) since its
+# Transfer began has only lifted it: it is not arriving. Nor is one that speeds up (by
+# more than SPEEDING_UP x V_H1 over SPEEDING_S). A person carries on without stopping;
+# the robot pauses at every corner of its straight moves, the first at the top of the lift,
+# and starts each as slowly as it ends (issue #13, docs/monitor.md).
+ARRIVE_MM = 15.0
+SPEEDING_S = 0.1
+SPEEDING_UP = 0.2
 
 
 class SearchNode(EnvNodeBase):
@@ -60,12 +68,25 @@ class SearchNode(EnvNodeBase):
             # a hand that stopped once and sped on (leaving) is not arriving, nor one whose
             # motion has only just begun; just after a re-placement its velocity is unknown
             return None
+        if self.leaving(query, env):
+            return None
         found = self.near(env)
         if found is WAIT:
             if query.since not in self.waiting:
                 self.waiting = {query.since: self.sight.t}  # a new motion: older ones are over
             return None
         return hand.detection(found=found, t=self.waiting.get(query.since)) if found else None
+
+    def leaving(self, query: Query, env: EnvModel) -> bool:
+        """A hand carrying an object that has not gone anywhere since its Transfer began, or
+        is speeding up: it is not arriving (an empty hand's reach is left as it was)."""
+        hand = self.hand
+        if hand.held_box(env, spot=True) is None:
+            return False
+        start, before = hand.at(query.since), hand.at(self.sight.t - SPEEDING_S)
+        if start is not None and float(np.hypot(*(hand.hand[:2] - start.hand[:2]))) < ARRIVE_MM:
+            return True
+        return before is not None and hand.speed() > before.speed + SPEEDING_UP * hand.v_fast
 
     def regions(self, env: EnvModel) -> tuple[list[Region3D], set[str]]:
         """The search regions, top to bottom, and the names never to report (held, riders)."""

@@ -1,0 +1,100 @@
+"""The robot watched by the demonstration's recognizer (issue #13 item 2, Sec. IX-C2).
+
+A table of the operation comparison (lbw_engine.do.opcheck), then the monitored
+execution end to end: the bundled unstack plan executed without faults, where
+the gripper's recognized operations must agree with the executed ones, and
+with a drop during the transfer, which the comparison must report.
+"""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from lbw_engine.cli import main
+from lbw_engine.do.opcheck import PLACE_MM, Op, differences, moving_operations
+from lbw_engine.paths import bundled_scenario
+from lbw_engine.rules import load_rules
+
+DATA = Path(__file__).resolve().parent.parent / "data"
+
+# classes as effects.yaml gives them: into the hand (follow) or onto a support (place)
+P, T = Op("PICK", "a", "follow"), Op("PLACE-ON-TABLE", "a", "place")
+B = Op("PLACE-ON-BLOCK", "b", "place")
+
+# executed, recognized, expected differences as (object, expected, observed)
+CASES = [
+    pytest.param([P, T], [P, T], [], id="same"),
+    pytest.param([P, T], [P], [("a", "PLACE-ON-TABLE a", None)], id="missing-place"),
+    pytest.param([P, T], [P, T, Op("PICK", "c", "follow")], [("c", None, "PICK c")],
+                 id="extra-op"),
+    pytest.param([P, T], [P, Op("PLACE-ON-TABLE", "c", "place")],
+                 [("a", "PLACE-ON-TABLE a", "PLACE-ON-TABLE c")], id="wrong-object"),
+    pytest.param([P, T], [P, Op("PICK", "a", "follow")],
+                 [("a", "PLACE-ON-TABLE a", "PICK a")], id="place-seen-as-pick"),
+    # the support (table or block) is the state comparison's to judge
+    pytest.param([P, B], [P, Op("PLACE-ON-TABLE", "b", "place")], [], id="other-support"),
+    pytest.param([P, T], [], [("a", "PICK a", None), ("a", "PLACE-ON-TABLE a", None)],
+                 id="nothing-seen"),
+    # a place is judged where the recognizer saw the object appear (x, y), within PLACE_MM
+    pytest.param([P, Op("PLACE-ON-TABLE", "a", "place", (0.0, 100.0))],
+                 [P, Op("PLACE-ON-TABLE", "a", "place", (PLACE_MM - 5.0, 100.0))], [],
+                 id="placed-near-goal"),
+    pytest.param([P, Op("PLACE-ON-TABLE", "a", "place", (0.0, 100.0))],
+                 [P, Op("PLACE-ON-TABLE", "a", "place", (PLACE_MM + 5.0, 100.0))],
+                 [("a", "PLACE-ON-TABLE a at (0, 100)",
+                   f"PLACE-ON-TABLE a at ({PLACE_MM + 5:.0f}, 100)")],
+                 id="placed-elsewhere"),
+]
+
+
+@pytest.mark.parametrize("executed,recognized,expected", CASES)
+def test_differences(executed, recognized, expected):
+    got = [(d["object"], d["expected"], d["observed"]) for d in differences(executed, recognized)]
+    assert got == expected
+
+
+def test_the_compared_operations_are_those_whose_effect_moves_an_object():
+    rules = load_rules()
+    moving = moving_operations(rules.effects)
+    assert set(moving) == {op for op, r in rules.effects.items() if r.move}
+    for op, (kind, var, feature) in moving.items():
+        move = rules.effects[op].move
+        assert kind in move and f"${var}" in move.values() and feature == move.get("measured")
+    assert {kind for kind, _, _ in moving.values()} == {"follow", "place"}
+
+
+def execute(tmp_path, scenario, capsys):
+    out = tmp_path / "out"
+    code = main(["execute", str(DATA / "unstack.plan.json"), str(scenario), "--out", str(out)])
+    err = capsys.readouterr().err
+    return code, json.loads((out / "execution.json").read_text()), err
+
+
+def test_fault_free_robot_operations_are_recognized_as_executed(tmp_path, capsys):
+    code, report, err = execute(tmp_path, bundled_scenario("unstack"), capsys)
+    assert code == 0, err
+    ops = report["monitor"]["operations"]
+    assert [o["operator"] for o in ops] == ["achieve01"]
+    moved = ops[0]["moving"]
+    names = [t.split(" at ")[0] for t in moved["executed"]]
+    assert names == ["PICK top1", "PLACE-ON-TABLE top1"]
+    assert [t.split(" at ")[0] for t in moved["recognized"]] == names
+    assert ops[0]["agree"] is True
+    # the whole executed sequence is recognized in order (the step aside comes after it)
+    assert ops[0]["recognized"][:len(ops[0]["executed"])] == ops[0]["executed"]
+    assert report["monitor"]["detections"] == []
+
+
+def test_a_drop_is_seen_in_the_robot_operations(tmp_path, capsys):
+    text = bundled_scenario("unstack").read_text().rstrip("\n") + "\n"
+    path = tmp_path / "drop.yaml"
+    path.write_text(text + "  faults:\n    - {during: 1, kind: drop}\n")
+    code, report, err = execute(tmp_path, path, capsys)
+    assert [f["kind"] for f in report["faults"]] == ["drop"]
+    first = report["monitor"]["operations"][0]
+    assert first["operator"] == "achieve01" and first["agree"] is False
+    seen = [d for d in report["monitor"]["detections"] if d["kind"] == "operation"]
+    assert seen and seen[0]["operator"] == "achieve01" and seen[0]["object"] == "top1"
+    assert seen[0]["expected"].startswith("PLACE-ON-TABLE top1 at (")
+    assert seen[0]["t"] >= report["faults"][0]["t"]
