@@ -135,7 +135,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
     rules = ruleset.commands
     names = list(eyes.shape_of)
     moving = moving_operations(ruleset.effects)
-    hint = {n: (eyes.shape_of[n], tuple(model.bodies[n].position[:2])) for n in names}
+    # what the cameras last saw, name -> (shape, centre): the robot watch starts from it
+    hint = {n: (eyes.shape_of[n], tuple(model.bodies[n].position)) for n in names}
     unit_names = set(unit_of(plan).values())
     snaps: dict[str, tuple] = {}
 
@@ -171,8 +172,10 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         seen = eyes.look(unit.expected)
         out.spans.append({"operator": unit.operator, "t_start": round(t0, 2),
                           "t_end": round(robot.world.time, 2)})
-        hint.update({n: (eyes.shape_of[n], tuple(st.position[:2]))
-                     for n, st in seen.states.items() if n in eyes.shape_of})
+        hint = {n: (eyes.shape_of[n], tuple(st.position))
+                for n, st in seen.states.items() if n in eyes.shape_of}
+        hint.update({f"{SPARE_PREFIX}{i}": (seen.measured[i].shape, seen.measured[i].position)
+                     for i in seen.spares})
         verdict = verify(unit.expected, unit.supports, seen.states, rules.support_relations)
         if verdict.success:
             continue

@@ -14,9 +14,10 @@ images.
 One recognizer per ACHIEVE: the monitor's look between ACHIEVEs takes the
 gripper out of both views, which ends the recognizer's Task (the hand is lost
 from the world, as when a demonstrator withdraws), so each ACHIEVE is watched
-like a short demonstration whose objects are named after the monitor's last
-look. The execution video (``ExecutionRecorder``) draws the frames rendered
-here instead of rendering its own.
+like a short demonstration whose initial state is the monitor's last look (the
+same cameras, read against the plan's expected state: ObjectFinderNode
+``located``). The execution video (``ExecutionRecorder``) draws the frames
+rendered here instead of rendering its own.
 """
 
 from __future__ import annotations
@@ -47,11 +48,12 @@ class RobotWatch:
         self.rec: Any = None
         self.frames = 0  # frames recognized, all units
 
-    def begin(self, names: Mapping[str, tuple[str, Sequence[float]]]) -> None:
-        """Start watching a unit; ``names`` names the objects (name -> shape, (x, y))."""
+    def begin(self, located: Mapping[str, tuple[str, Sequence[float]]]) -> None:
+        """Start watching a unit from the monitor's last look (name -> shape, centre)."""
         from perception.vision.envnodes.registry import new_recognizer
 
-        self.rec, _ = new_recognizer(self.renderer.cameras, self.shapes, self.rules, names)
+        self.rec, _ = new_recognizer(self.renderer.cameras, self.shapes, self.rules,
+                                     located, located=located)
 
     def end(self) -> list[Any]:
         """Stop watching the unit: the recognized ACT-nodes of its Task, in order."""

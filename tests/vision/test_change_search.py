@@ -145,3 +145,41 @@ def test_change_detector_holds_at_high_pixel_noise(make, region, expected, noise
         cd.snapshot(film.shoot(OTHERS + start))
         assert cd.compare(film.shoot(OTHERS + end)) == expected
         assert max(cd.changed_fraction.values()) < 0.02 or expected != "nochange"
+
+
+def _settled(first):
+    """``first`` with its block's top row in the side view gone dark: what a block lowered
+    by a pixel shows when it is already nearly on its spot (a robot sets it down slowly)."""
+    import dataclasses
+
+    side = first.pixels["side"].copy()
+    rows = np.flatnonzero((side > 100).any(axis=1))
+    side[rows[0]] = np.where(side[rows[0]] > 100, 0, side[rows[0]])
+    return dataclasses.replace(first, pixels={**first.pixels, "side": side})
+
+
+# A place's threshold is what the carried block can still add (tiny when it is nearly
+# down); a vanish keeps the object's own share (ChangeNode.compare sets both).
+# (id, scenes, low appeared threshold, vanish threshold, expected)
+VANISH = [
+    pytest.param("settle", 0.002, None, "vanished", id="settled-one-threshold-reads-vanished"),
+    pytest.param("settle", 0.002, 0.05, "nochange", id="settled-vanish-threshold-nochange"),
+    pytest.param("pick", 0.002, 0.05, "vanished", id="real-vanish-still-seen"),
+    pytest.param("place", 0.002, 0.05, "appeared", id="place-still-appeared"),
+]
+
+
+@pytest.mark.parametrize("scenes,low,vanish,expected", VANISH)
+def test_a_vanish_needs_its_own_threshold(scenes, low, vanish, expected):
+    film, res = Film(), VisionResources()
+    cd = ChangeDetector(CAMS, res)
+    region = snapshot_region(Region3D.around((T[0], T[1], -0.5), (30, 30, 1)), BRICK)
+    cd.attention(region)
+    if scenes == "settle":
+        first = cd.take(film.shoot(OTHERS + [block(*T, BRICK)]))
+        last = _settled(first)
+    else:
+        start, end = _pick() if scenes == "pick" else _place()
+        first, last = cd.take(film.shoot(OTHERS + start)), cd.take(film.shoot(OTHERS + end))
+    cd.area_threshold, cd.vanish_threshold = low, vanish
+    assert cd.judge(first, last) == expected

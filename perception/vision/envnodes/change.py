@@ -122,7 +122,12 @@ class ChangeNode(EnvNodeBase):
             return None
         det, shot = self.detector, first["shot"]
         det.attention(shot.region)
-        det.area_threshold = self.threshold(shot, first["size"], place=bool(first.get("place")))
+        place = bool(first.get("place"))
+        det.area_threshold = self.threshold(shot, first["size"], place=place)
+        # A place's threshold is what the carried block can still add to the landing box,
+        # little when it is already low there (a robot sets a block down slowly); that says
+        # nothing about a block vanishing, which takes its whole outline with it.
+        det.vanish_threshold = self.threshold(shot, first["size"]) if place else None
         last = det.take(self.sight.frame)
         result = det.judge(shot, last)
         pos = det.target()

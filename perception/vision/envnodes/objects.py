@@ -27,15 +27,27 @@ class ObjectFinderNode(EnvNodeBase):
     calls = {"locate": "locate"}
 
     def __init__(self, *args: Any, shapes: Mapping[str, Sequence[float]],
-                 names: Mapping[str, tuple[str, Sequence[float]]] | None = None) -> None:
-        """``shapes`` is the shape database; ``names`` a naming hint (teach name -> shape, at)."""
+                 names: Mapping[str, tuple[str, Sequence[float]]] | None = None,
+                 located: Mapping[str, tuple[str, Sequence[float]]] | None = None) -> None:
+        """``shapes`` is the shape database; ``names`` a naming hint (teach name -> shape, at).
+
+        ``located`` (name -> shape, centre) is a reading of these cameras' images taken
+        just before the frames begin, with the names settled: the execution monitor's
+        look, which explains the workspace against the plan's expected state and so
+        tells apart stacked blocks of one footprint that the finder alone reads as one
+        column. The initial state is then that reading, not a second, poorer one."""
         super().__init__(*args)
         self.shapes = {k: tuple(float(v) for v in s) for k, s in shapes.items()}
         self.names = dict(names or {})
+        self.located = dict(located) if located is not None else None
         self.finder = ObjectFinder(self.sight.cameras, self.sight.resources)
 
     def locate(self, query: Query, env: EnvModel) -> Detection | None:
         """The object-finder's result on the current frame, named per design.md."""
+        if self.located is not None:
+            out = {n: ObjectInfo(s, self.shapes[s], tuple(float(c) for c in at))
+                   for n, (s, at) in self.located.items() if s in self.shapes}
+            return Detection(found=tuple(out), objects=out) if out else None
         found = self.finder.find(self.sight.frame, self.shapes)
         if not found:
             return None

@@ -42,23 +42,28 @@ VOCABULARY: dict[str, dict[str, frozenset]] = {
 
 
 def perception_detectors(hand: HandState, rules: RuleSet, shapes: Mapping[str, Sequence[float]],
-                         names: Mapping[str, tuple[str, Sequence[float]]] | None = None
+                         names: Mapping[str, tuple[str, Sequence[float]]] | None = None,
+                         located: Mapping[str, tuple[str, Sequence[float]]] | None = None
                          ) -> dict[str, Any]:
     """Detector name (rules/events.yaml) -> image-backed ENV-node."""
     out: dict[str, Any] = {}
     for node in NODES:
-        extra = {"shapes": shapes, "names": names} if node is ObjectFinderNode else {}
+        extra = {"shapes": shapes, "names": names, "located": located} \
+            if node is ObjectFinderNode else {}
         out[node.name] = node(hand, rules, **extra)
     return out
 
 
 def new_recognizer(cameras: Mapping[str, Camera], shapes: Mapping[str, Sequence[float]],
-                   rules: RuleSet, names: Mapping[str, tuple[str, Sequence[float]]] | None = None
+                   rules: RuleSet, names: Mapping[str, tuple[str, Sequence[float]]] | None = None,
+                   located: Mapping[str, tuple[str, Sequence[float]]] | None = None
                    ) -> tuple[Recognizer, HandState]:
     """A recognizer wired to fresh image-backed ENV-nodes, to be fed frames with ``step``
-    (``watch_frames`` does; so does the robot's execution monitor, one per ACHIEVE)."""
+    (``watch_frames`` does; so does the robot's execution monitor, one per ACHIEVE, with
+    ``located``: its last look, see ObjectFinderNode)."""
     hand = HandState(Sight(cameras), rules)
-    registry = DetectorRegistry.for_rules(rules, perception_detectors(hand, rules, shapes, names))
+    registry = DetectorRegistry.for_rules(
+        rules, perception_detectors(hand, rules, shapes, names, located))
     return Recognizer(rules, registry), hand
 
 

@@ -54,6 +54,9 @@ class ChangeDetector(VFD):
         """A detector with no region yet (call ``attention``)."""
         super().__init__(cameras, resources)
         self.area_threshold = area_threshold
+        # The least net fraction read as a vanished object, when it differs from the
+        # appeared one (``area_threshold``); None: the same.
+        self.vanish_threshold: float | None = None
         self._first: Snapshot | None = None
         self.result: str | None = None
         self.changed_fraction: dict[str, float] = {}
@@ -108,12 +111,13 @@ class ChangeDetector(VFD):
             c = centroid(changed)
             if c is not None:
                 centres[v] = (x0 + c[0], y0 + c[1])
-        view = max(VIEWS, key=lambda v: abs(votes[v]))
-        if abs(votes[view]) < self.area_threshold:
+        passing = [v for v in VIEWS if abs(votes[v]) >= self.need(votes[v])]
+        if not passing:
             self.result, self._target = NO_CHANGE, None
             return self.result
+        view = max(passing, key=lambda v: abs(votes[v]))
         self.result = APPEARED if votes[view] > 0 else DISAPPEARED
-        same = [v for v in VIEWS if abs(votes[v]) >= self.area_threshold / 2
+        same = [v for v in VIEWS if abs(votes[v]) >= self.need(votes[v]) / 2
                 and np.sign(votes[v]) == np.sign(votes[view]) and v in centres]
         region = first.region
         if len(same) == 2 and hidden[same[0]] != hidden[same[1]]:
@@ -130,6 +134,13 @@ class ChangeDetector(VFD):
                 centres["top"], float(region.center[2]))
         self._found = True
         return self.result
+
+
+    def need(self, vote: float) -> float:
+        """The least net changed fraction that reads as a change of ``vote``'s sign."""
+        if vote < 0 and self.vanish_threshold is not None:
+            return self.vanish_threshold
+        return self.area_threshold
 
 
 def shade_change(first: Snapshot, last: Snapshot) -> float:
