@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import copy
 import math
+from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -102,7 +103,10 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report, None, views,
                                "instantiation")
     shape_of = {n: taught[n]["shape"] for n in matching.assigned}
-    eyes = Eyes(world, renderer, sc.shapes, shape_of)
+    counted = Counter(m.shape for m in measured)
+    most = {s: max(counted[s], list(shape_of.values()).count(s))
+            for s in {*counted, *shape_of.values()}}
+    eyes = Eyes(world, renderer, sc.shapes, shape_of, most)
     injector = FaultInjector(world, sc.faults, {n: n for n in world.names})
     watch = RobotWatch(Renderer(default_cameras(), pixel_noise=sc.noise.pixel, seed=sc.seed + 1),
                        sc.shapes, ruleset) if via != "bt" else None

@@ -69,13 +69,16 @@ class Eyes:
     """Render, find and name: the state of the workspace as the cameras show it."""
 
     def __init__(self, world: Any, renderer: Any, shapes: Mapping[str, Any],
-                 shape_of: Mapping[str, str]) -> None:
-        """``world`` is only rendered (the scene), never read by the measurement."""
+                 shape_of: Mapping[str, str], most: Mapping[str, int] | None = None) -> None:
+        """``world`` is only rendered (the scene), never read by the measurement. ``most``:
+        how many blocks of each shape the workspace holds (the first look's count; no
+        fault adds a block)."""
         from perception.vision.camera import default_cameras
         from perception.vision.vfd.objects import ObjectFinder
         from perception.vision.vfd.resources import VisionResources
 
         self.world, self.renderer, self.shapes, self.shape_of = world, renderer, shapes, shape_of
+        self.most = dict(most or {})
         self.cameras = default_cameras()
         self.finder = ObjectFinder(self.cameras, VisionResources())
         self.last_images: dict | None = None
@@ -91,7 +94,7 @@ class Eyes:
         found = sorted(self.finder.find(frame, self.shapes), key=lambda f: f.mismatch)
         want = {n: (self.shape_of[n], p, self.shapes[self.shape_of[n]])
                 for n, p in expected.items()}
-        boxes, named, inferred = explain(self.cameras, images, found, want)
+        boxes, named, inferred = explain(self.cameras, images, found, want, self.most)
         self.windows = [(cam, _rect(self.cameras[cam], b.position, b.size), "object")
                         for b in boxes for cam in ("top", "side")]
         measured = [Measured(f.shape, tuple(f.position), tuple(f.size)) for f in boxes]

@@ -48,3 +48,36 @@ def test_a_spare_in_sight_is_kept():
     boxes, named, _ = explain(cams, images, found, ARCH)
     assert sorted(named) == sorted(ARCH)
     assert len(boxes) == 4
+
+
+BLOCK, CUBE, PLANK = (50.0, 50.0, 50.0), (40.0, 40.0, 40.0), (160.0, 60.0, 20.0)
+# Bench seed 3003 (nominal, a drop): a brick should stand on a block, with an inverted arch
+# behind them on the side camera's line of sight.
+TOWER = {"b1": ("block", (92.0, 231.0, 25.0), BLOCK), "b2": ("brick", (92.0, 231.0, 75.0), BRICK),
+         "pillar": ("block", (144.0, 313.0, 25.0), BLOCK),
+         "plank": ("plank", (154.0, 313.0, 60.0), PLANK),
+         "cube1": ("cube", (111.0, 313.0, 90.0), CUBE),
+         "cube2": ("cube", (203.0, 313.0, 90.0), CUBE)}
+
+
+def test_no_more_blocks_of_a_shape_than_the_workspace_holds():
+    """The brick was dropped on its way and lies on the table. Where it should stand, the
+    plank and a cube behind fill its side silhouette, and from above the block's top face
+    looks like its; the finder reads a brick there as well as the one on the table. Only
+    one brick exists (the first look counted them), so the reading the views need least,
+    the one on the tower, goes, and the drop is seen."""
+    fallen = ("brick", (75.0, 185.0, 25.0), BRICK)
+    world = {**{n: v for n, v in TOWER.items() if n != "b2"}, "fallen": fallen}
+    cams, images = _views(world)
+    found = [FoundObject(s, c, size, 0.0) for s, c, size in world.values()]
+    found.append(FoundObject("brick", TOWER["b2"][1], BRICK, 0.0))  # the finder's reading
+
+    def bricks(boxes):
+        return sorted(tuple(round(c) for c in b.position) for b in boxes if b.shape == "brick")
+
+    boxes, named, _ = explain(cams, images, found, TOWER)
+    assert "b2" in named and len(bricks(boxes)) == 2  # without the count: a phantom
+    most = {"block": 2, "brick": 1, "plank": 1, "cube": 2}
+    boxes, named, _ = explain(cams, images, found, TOWER, most)
+    assert "b2" not in named and bricks(boxes) == [(75, 185, 25)]
+    assert {"b1", "pillar", "plank", "cube1", "cube2"} <= set(named)

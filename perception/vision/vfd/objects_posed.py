@@ -95,7 +95,8 @@ class Silhouettes:
 
 
 def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
-            found: Sequence[FoundObject], expected: Mapping[str, Expected]
+            found: Sequence[FoundObject], expected: Mapping[str, Expected],
+            most: Mapping[str, int] | None = None
             ) -> tuple[list[FoundObject], dict[str, int], list[str]]:
     """The finder's blocks with expected poses accepted where the views allow.
 
@@ -103,6 +104,8 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
     the blocks) and the names added although the finder did not report them.
     A block may replace the finder's reading of it, or the pieces the finder
     made of it (a ring of a lower block around an upper one, Fig. 14).
+    ``most`` bounds how many blocks of each shape the workspace holds (see
+    ``_too_many``).
     """
     check = Silhouettes(cameras, images)
     boxes: list[FoundObject | None] = list(found)
@@ -139,6 +142,8 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
                 added.remove(n)
     if named:
         _drop_unseen(boxes, named, cost)
+    if most:
+        _too_many(boxes, named, added, most, cost)
     keep = [i for i, b in enumerate(boxes) if b is not None]
     index = {i: k for k, i in enumerate(keep)}
     return [boxes[i] for i in keep], {n: index[i] for n, i in named.items()}, added
@@ -285,6 +290,31 @@ def _drop_unseen(boxes: list, named: dict[str, int], cost: Callable[[], int]) ->
             base = trial
         else:
             boxes[i] = b
+
+
+def _too_many(boxes: list, named: dict[str, int], added: list[str], most: Mapping[str, int],
+              cost: Callable[[], int]) -> None:
+    """No more blocks of a shape than the workspace holds: while there are, the one the
+    views need least goes (named or not). A block fallen off a tower leaves behind it a
+    pose that other blocks' images can fill on the side camera's line of sight (a plank
+    and a cube behind it), and the top face below looks the same from above: the block
+    on the table is the one the images need."""
+    for shape, limit in most.items():
+        while True:
+            mine = [i for i, b in enumerate(boxes) if b is not None and b.shape == shape]
+            if len(mine) <= limit:
+                break
+            trials = {}
+            for i in mine:
+                b, boxes[i] = boxes[i], None
+                trials[i] = cost()
+                boxes[i] = b
+            least = min(mine, key=lambda i: trials[i])
+            boxes[least] = None
+            for n in [n for n, i in named.items() if i == least]:
+                del named[n]
+                if n in added:
+                    added.remove(n)
 
 
 def _replace(boxes: list, named: dict[str, int], expected: Mapping[str, Expected],
