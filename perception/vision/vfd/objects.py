@@ -51,8 +51,8 @@ class ObjectFinder(VFD):
 
     def find(self, frame: Frame, shapes: Mapping[str, Sequence[float]]) -> list[FoundObject]:
         """Segment, correspond, measure and name every block visible in ``frame``."""
-        smallest = self._smallest_face_px(shapes)
-        faces = self._top_faces(frame.top, smallest)
+        smallest = self.smallest_face_px(shapes)
+        faces = self.top_faces(frame.top, smallest)
         side_img = self._read_full("side", frame.side)
         # Side-view top faces, each grown by a pixel (the crease on its outline is its own).
         n, labels, stats, _ = cv2.connectedComponentsWithStats(
@@ -207,7 +207,7 @@ class ObjectFinder(VFD):
                 for x in (left - 1.0, right + 1.0)]
         return float(ends[1] - ends[0]), float(ends[0] + ends[1]) / 2.0
 
-    def _smallest_face_px(self, shapes: Mapping[str, Sequence[float]]) -> float:
+    def smallest_face_px(self, shapes: Mapping[str, Sequence[float]]) -> float:
         """Side (px) of the smallest top face the database allows, on the table in the top
         view: the coarse look must not step over it and the face threshold must not drop it
         (a 10 mm cube is about 3 px wide; issue #12 class 3)."""
@@ -215,7 +215,7 @@ class ObjectFinder(VFD):
         side = min((min(float(s[0]), float(s[1])) for s in shapes.values()), default=30.0)
         return side * cam.mm_to_px((0.0, 200.0, 0.0))
 
-    def _top_faces(self, top: np.ndarray, smallest: float = 10.0
+    def top_faces(self, top: np.ndarray, smallest: float = 10.0
                    ) -> list[tuple[float, float, float, float]]:
         """Top faces in the top view: their pixel rectangles (x0, y0, x1, y1).
 

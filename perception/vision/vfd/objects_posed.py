@@ -29,7 +29,8 @@ import numpy as np
 
 from perception.vision.camera import Camera
 from perception.vision.vfd.base import DARK_MAX
-from perception.vision.vfd.objects import FoundObject
+from perception.vision.vfd.objects import FoundObject, ObjectFinder
+from perception.vision.vfd.resources import VisionResources
 
 GATE_MM = 15.0  # a top face this near an expected block's (in x, y) may be that block
 SIZE_MM = 8.0  # and its footprint this near the block's shape
@@ -49,6 +50,7 @@ class Silhouettes:
     def __init__(self, cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray]) -> None:
         """``images`` holds the ``top`` and ``side`` gray views."""
         self.cameras = cameras
+        self.faces: list[tuple[float, float, float, float]] = []  # top faces (top view px)
         self.solid = {n: (images[n] > DARK_MAX).astype(np.uint8) for n in ("top", "side")}
 
     def wrong(self, boxes: Sequence[tuple[Sequence[float], Sequence[float]]],
@@ -108,6 +110,9 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
     ``_too_many``).
     """
     check = Silhouettes(cameras, images)
+    finder = ObjectFinder(cameras, VisionResources())
+    sizes = {n: e[2] for n, e in expected.items()}
+    check.faces = finder.top_faces(images["top"], finder.smallest_face_px(sizes)) if sizes else []
     boxes: list[FoundObject | None] = list(found)
     named: dict[str, int] = {}
 
@@ -209,7 +214,7 @@ def _replace_structure(boxes: list, named: dict[str, int], group: list[str],
         i for i, b in enumerate(boxes) if b is not None and i not in named.values()],
         expected[n][1], expected[n][2], any_size=True, any_height=True)})
     was = {i: boxes[i] for i in parts}
-    if not _tops_seen(group, expected, list(was.values())):
+    if not _tops_seen(group, expected, list(was.values()), check):
         return False
     for i in parts:
         boxes[i] = None
@@ -228,17 +233,34 @@ def _replace_structure(boxes: list, named: dict[str, int], group: list[str],
 
 
 def _tops_seen(group: list[str], expected: Mapping[str, Expected],
-               found: list[FoundObject]) -> bool:
+               found: list[FoundObject], check: Silhouettes) -> bool:
     """Every block of the group with nothing of the group above it shows its whole top
-    face: the finder must have measured it there (its x, y are sharp, within TOP_MM)."""
+    face: the finder measured it there (its x, y are sharp, within TOP_MM), or the top
+    view shows a top face of its footprint there at its height (``_face_seen``)."""
     for n in group:
         c, size = expected[n][1], expected[n][2]
         covered = any(m != n and expected[m][1][2] > c[2] and all(
             abs(expected[m][1][k] - c[k]) < (expected[m][2][k] + size[k]) / 2.0 for k in (0, 1))
             for m in group)
-        if not covered and not _top_seen(c, size, found):
+        if not covered and not _top_seen(c, size, found) and not _face_seen(c, size, check):
             return False
     return True
+
+
+def _face_seen(c: Sequence[float], size: Sequence[float], check: Silhouettes) -> bool:
+    """A top face of the top view, put at this block's top height, has its footprint and
+    lies where its top is (within TOP_MM). The finder's reading can miss it when it pairs
+    faces with side-view heights wrongly (a brick on a disc at 4x pixel noise: the disc's
+    visible ring was taken for the brick, 9 mm off); the face itself is plain to see."""
+    cam, top = check.cameras["top"], c[2] + size[2] / 2.0
+    for rect in check.faces:
+        pts = np.array([cam.point_on_plane_z((u, v), top)[:2]
+                        for u in (rect[0], rect[2]) for v in (rect[1], rect[3])])
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        if all(abs((lo[k] + hi[k]) / 2.0 - c[k]) <= TOP_MM for k in (0, 1)) and \
+                sum(abs(hi[k] - lo[k] - size[k]) for k in (0, 1)) <= SIZE_MM:
+            return True
+    return False
 
 
 def _top_seen(c: Sequence[float], size: Sequence[float], found: list[FoundObject]) -> bool:
