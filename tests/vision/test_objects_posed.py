@@ -100,3 +100,21 @@ def test_a_top_face_plain_in_the_top_view_counts_though_the_finder_misread_it():
     assert sorted(named) == ["b1", "b2", "b3"]
     for n, (_, c, _) in tower.items():
         assert boxes[named[n]].position == c
+
+
+def test_a_misread_shape_does_not_push_a_real_block_out():
+    """Fault bench seed 3004 at 2x: a stack elsewhere read as a 'block' made two blocks
+    where the workspace holds one, and the pillar under the plank, partly hidden and so the
+    one the views needed least, was dropped: a false detection. A block goes only if the
+    views do not need it at all."""
+    arch = {"pillar": ("block", (-164.0, 239.0, 25.0), BLOCK),
+            "plank": ("plank", (-164.0, 238.0, 60.0), PLANK)}
+    front = ("crate", (-164.0, 150.0, 15.0), (60.0, 30.0, 30.0))  # hides the pillar's foot
+    other = ("stack", (-228.0, 345.0, 38.0), (60.0, 60.0, 76.0))
+    cams, images = _views({**arch, "front": front, "other": other})
+    found = [FoundObject(s, c, size, 0.0) for s, c, size in (*arch.values(), front)]
+    found.append(FoundObject("block", other[1], other[2], 0.0))  # misread as a block
+    most = {"block": 1, "plank": 1, "crate": 1}
+    boxes, named, _ = explain(cams, images, found, arch, most)
+    assert sorted(named) == ["pillar", "plank"]
+    assert boxes[named["pillar"]].position == arch["pillar"][1]

@@ -317,21 +317,25 @@ def _drop_unseen(boxes: list, named: dict[str, int], cost: Callable[[], int]) ->
 def _too_many(boxes: list, named: dict[str, int], added: list[str], most: Mapping[str, int],
               cost: Callable[[], int]) -> None:
     """No more blocks of a shape than the workspace holds: while there are, the one the
-    views need least goes (named or not). A block fallen off a tower leaves behind it a
-    pose that other blocks' images can fill on the side camera's line of sight (a plank
-    and a cube behind it), and the top face below looks the same from above: the block
-    on the table is the one the images need."""
+    views need least goes (named or not), if the views do not need it at all (leaving it
+    out makes them no worse than WORSE_PX; a shape the finder gave a misread block is no
+    reason to drop a real one). A block fallen off a tower leaves behind it a pose that
+    other blocks' images can fill on the side camera's line of sight (a plank and a cube
+    behind it), and the top face below looks the same from above: the block on the table
+    is the one the images need."""
     for shape, limit in most.items():
         while True:
             mine = [i for i, b in enumerate(boxes) if b is not None and b.shape == shape]
             if len(mine) <= limit:
                 break
-            trials = {}
+            base, trials = cost(), {}
             for i in mine:
                 b, boxes[i] = boxes[i], None
                 trials[i] = cost()
                 boxes[i] = b
             least = min(mine, key=lambda i: trials[i])
+            if trials[least] > base + WORSE_PX:
+                break
             boxes[least] = None
             for n in [n for n, i in named.items() if i == least]:
                 del named[n]
