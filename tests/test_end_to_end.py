@@ -70,6 +70,7 @@ def test_demo_shows_the_paper_figures(tmp_path, capsys):
     assert "45 manipulator commands" in out and "Verdict: SUCCESS" in out
 
 
+@pytest.mark.heavy
 def test_run_with_video_and_report_adds_the_pictures(tmp_path):
     code = main(["run", str(ROOT / "scenarios" / "arch.yaml"), "--out", str(tmp_path),
                  "--video", "--report"])

@@ -70,6 +70,7 @@ def test_readme_sh_blocks_have_the_commands_this_test_expects():
     assert any(line.startswith("dask scheduler") for line in lines)
 
 
+@pytest.mark.heavy
 def test_readme_commands_run_as_written(tmp_path):
     (tmp_path / "scenarios").symlink_to(ROOT / "scenarios")
     env = dict(os.environ, PATH=str(Path(sys.executable).parent) + os.pathsep +

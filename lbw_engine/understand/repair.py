@@ -210,11 +210,22 @@ def _same_motion(a: dict[str, Any], b: dict[str, Any]) -> bool:
 
 
 def _rejoined(a: dict[str, Any], b: dict[str, Any]) -> dict[str, Any]:
-    """One motion from its two parts: ``a``'s start, ``b``'s end and where it came to."""
+    """One motion from its two parts: ``a``'s start, ``b``'s end and where it came to.
+
+    A snapshot holds the relations of its operation's nodes. The joined motion ends
+    with ``b``'s nodes, so it starts with ``b``'s relations too (neither part changed
+    any): ``a``'s would leave the relations of the blocks it came to looking added by
+    the carry. The positions at the start are ``a``'s, with ``b``'s for nodes ``a`` had not.
+    """
     out = copy.deepcopy(a)
     for key in ("t_end", "final_event", "target", "final_state"):
         if key in b:
             out[key] = copy.deepcopy(b[key])
+    if "initial_state" in b:
+        start = copy.deepcopy(b["initial_state"])
+        start["positions"] = {**start.get("positions", {}),
+                              **copy.deepcopy(a.get("initial_state", {}).get("positions", {}))}
+        out["initial_state"] = start
     if "fine" in a or "fine" in b:
         out["fine"] = [*a.get("fine", []), *b.get("fine", [])]
     return out

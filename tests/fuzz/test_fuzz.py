@@ -21,6 +21,7 @@ EXAMPLES = {"rules": 50, "scenario": 80, "actions": 80, "plan": 60, "trace": 40}
 
 
 @pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.heavy
 def test_fuzz_sample(kind):
     @settings(max_examples=EXAMPLES[kind], derandomize=True, deadline=None, database=None,
               suppress_health_check=list(HealthCheck))

@@ -27,6 +27,7 @@ CASES = {
 
 
 @pytest.mark.parametrize("seed", list(CASES.values()), ids=list(CASES))
+@pytest.mark.heavy
 def test_generated_scenario_recognized_exactly(seed):
     sc, rec, actions = watch_generated(seed, "nominal")
     assert_sequence(sc, actions)

@@ -9,9 +9,12 @@ the touch must stay a NO-OP (it was a PICK, and the block then counted as held).
 
 from __future__ import annotations
 
+import pytest
+
 from .generated import assert_sequence, watch_generated
 
 
+@pytest.mark.heavy
 def test_touch_seen_in_place_by_the_side_view_is_not_a_pick():
     sc, rec, actions = watch_generated(1077, "4x")
     assert_sequence(sc, actions)

@@ -27,6 +27,7 @@ CASES = {
 
 
 @pytest.mark.parametrize(("seed", "level"), list(CASES.values()), ids=list(CASES))
+@pytest.mark.heavy
 def test_place_target_recognized(seed, level):
     sc, rec, actions = watch_generated(seed, level)
     assert_sequence(sc, actions)

@@ -33,6 +33,7 @@ CASES = {
 
 
 @pytest.mark.parametrize("seed", list(CASES.values()), ids=list(CASES))
+@pytest.mark.heavy
 def test_hand_kept_through_the_whole_4x_demonstration(seed):
     sc, _, actions = watch_generated(seed, "4x")
     assert_sequence(sc, actions)

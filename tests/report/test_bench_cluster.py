@@ -28,6 +28,7 @@ def results(summary):
             for level, figures in summary.items()}
 
 
+@pytest.mark.heavy
 def test_local_cluster_of_two_workers_gives_the_records_of_the_process_pool(tmp_path):
     pool_doc, pool = run_bench(tmp_path, "pool", "--jobs", "2")
     dask_doc, dask = run_bench(tmp_path, "dask", "--cluster", "local:2")

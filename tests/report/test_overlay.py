@@ -87,6 +87,7 @@ def test_video_file_without_a_path_writes_nothing(tmp_path):
     assert video.frames == 0 and list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.heavy
 def test_monitor_does_not_change_recognition(recorded_run: RecordedRun):
     """The run watched through the monitor and the motion recorder; a plain watch agrees."""
     plain, _ = watch(load(recorded_run.scenario), load_rules())
