@@ -144,6 +144,8 @@ class CommandRules:
     jaw_clearance: float
     tip_clearance: float
     max_below_top: float
+    # fingertips above the gripped object's bottom (its height is measured by the cameras)
+    bottom_clearance: float
     release_clearance: float
     support_relations: tuple[str, ...]
     focus_relations: tuple[str, ...]
@@ -165,7 +167,8 @@ class CommandRules:
     def grip_offset(self, size: tuple[float, float, float]) -> float:
         """Height of the grip centre above an object's centre when holding it."""
         h = size[2]
-        return max(h / 2 - min(h / 2, self.max_below_top), self.tip + self.tip_clearance - h / 2)
+        return max(h / 2 - min(h / 2, self.max_below_top),
+                   self.tip + self.bottom_clearance - h / 2)
 
 
 def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str],
@@ -180,7 +183,7 @@ def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str],
     rd.keys(rd.mapping(doc, "the file"), "the file", _REQUIRED, _OPTIONAL)
     frame = _arm_frame(rd, doc["arm-frame"])
     grip = rd.mapping(doc["gripper"], "gripper", doc, "gripper")
-    rd.keys(grip, "gripper", _GRIPPER, where="gripper")
+    rd.keys(grip, "gripper", _GRIPPER, ("bottom-clearance",), where="gripper")
     jaws = rd.names(grip, "jaw-axes", "gripper.jaw-axes", JAW_AXES, "gripper.jaw-axes")
     if not jaws or len(set(jaws)) != len(jaws):
         rd.fail("must list each way the jaws close once (x, y)", grip, "jaw-axes",
@@ -215,6 +218,8 @@ def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str],
         jaw_clearance=mm(grip, "clearance", "gripper.clearance"),
         tip_clearance=mm(grip, "tip-clearance", "gripper.tip-clearance"),
         max_below_top=mm(grip, "max-below-top", "gripper.max-below-top"),
+        bottom_clearance=mm(grip, "bottom-clearance", "gripper.bottom-clearance")
+        if "bottom-clearance" in grip else mm(grip, "tip-clearance", "gripper.tip-clearance"),
         release_clearance=optional("release-clearance"),
         support_relations=tuple(support),
         focus_relations=rd.names(focus, "relations", "focus.relations", where="focus.relations"),

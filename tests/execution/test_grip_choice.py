@@ -210,3 +210,31 @@ def test_aligned_faces_are_verified_coplanar(off, ok):
 ])
 def test_grip_offsets_reach_the_whole_difference_of_face_and_finger(size, want):
     assert jaws.offsets(size, 0, RULESET.commands) == want
+
+
+# (object height mm) -> the fingertips stay bottom-clearance above its bottom, or grip at
+# most max-below-top below its top (commands.yaml gripper)
+@pytest.mark.parametrize("height", [10.0, 20.0, 30.0, 50.0, 120.0],
+                         ids=["plate-10", "tile-20", "30", "brick-50", "pillar-120"])
+def test_fingertips_stay_above_the_bottom_of_what_they_grip(height):
+    """Bench seed 1033: a 20 mm tile on a 40 mm cube, its height measured 2.2 mm low. With
+    the fingertips 1 mm above the tile's measured bottom they reached the cube, closed on
+    it (it is wider) and carried both away."""
+    size = (30.0, 30.0, height)
+    tips = jaws.tool_point((0.0, 0.0, height / 2), size, 0, 0.0, RULES)[2] - RULES.tip
+    assert RULES.bottom_clearance >= 3.0  # at least the cameras' height error
+    assert tips >= RULES.bottom_clearance - 1e-9 or tips >= height - RULES.max_below_top
+    assert tips < height  # the fingers still reach the object
+
+
+def test_bottom_clearance_defaults_to_the_tip_clearance(tmp_path):
+    import shutil
+
+    from lbw_engine.paths import default_rules_dir
+
+    rules = tmp_path / "rules"
+    shutil.copytree(default_rules_dir(), rules)
+    text = (rules / "commands.yaml").read_text()
+    (rules / "commands.yaml").write_text(text.replace("  bottom-clearance: 4.0\n", ""))
+    old = load_rules(str(rules)).commands
+    assert old.bottom_clearance == old.tip_clearance
