@@ -144,6 +144,7 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     """Run the phases on ``sc`` and fill ``rec`` with the figures."""
     from lbw_engine.do import plan as planmod
     from lbw_engine.pipeline.execute import execute_plan
+    from lbw_engine.pipeline.run import foreign_objects
     from lbw_engine.pipeline.watch import repair, watch
     from lbw_engine.see.actions import to_actions
     from lbw_engine.understand import RelationTable, analyze, parse_actions
@@ -176,6 +177,11 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
         rec["plan_correct"] = plan_final_relations(
             plan, rules.roles.support, teach_rename(actions, sc)) == true_final(sc, rules.roles)
         rec["analyze_seconds"] = time.perf_counter() - clock
+        wrong = foreign_objects(sc, actions)
+        if wrong:  # as in lbw run: the right operations on objects not shown
+            rec["failure"] = f"recognition: {wrong}"
+            rec["total_seconds"] = time.perf_counter() - start
+            return
         clock = time.perf_counter()
         result = execute_plan(planmod.parse(plan, file="plan.json"), sc, rules)
         rec["execute_seconds"] = time.perf_counter() - clock

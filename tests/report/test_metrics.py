@@ -162,3 +162,16 @@ def test_cameras_against_ground_truth_is_its_own_column():
     assert s["verdicts_agree_rate"] == 0.75  # the run without an execution verdict is left out
     header, row = format_table({"a": s}).splitlines()
     assert header.split()[14] == "cams=gt" and row.split()[13] == "75%"
+
+
+def test_bench_scores_an_object_misread_as_another_as_a_recognition_failure():
+    """Bench seed 2033 (nominal, rearrange): the operations are the demonstrated ones, but
+    on a 'cube1' the teach workspace does not hold (the finder misread a stack). `lbw run`
+    calls that a recognition failure; the bench executed the plan anyway and crashed on
+    the plan/scenario mismatch (InputError). It now scores it as `lbw run` does."""
+    from lbw_engine.cli.bench import run_one
+
+    rec = run_one((2033, "nominal", "rearrange", None))
+    assert "error" not in rec, rec.get("traceback")
+    assert rec["failure"].startswith("recognition: ") and "cube1" in rec["failure"]
+    assert rec["execution_success"] is False
