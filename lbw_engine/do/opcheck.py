@@ -79,7 +79,7 @@ def recognized_ops(nodes: Sequence[Any], moving: Mapping[str, tuple]) -> list[Op
     for node in nodes:
         if node.operation in moving:
             kind, var, feature = moving[node.operation]
-            names = tuple(getattr(node, "bound", {}).get(var, ()))
+            names = tuple(node.bound.get(var, ()))
             at = _xy(node.measured.get(feature)) if feature else None
             out.append(Op(node.operation, names[0] if names else None, kind, at))
     return out

@@ -103,9 +103,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report, None, views,
                                "instantiation")
     shape_of = {n: taught[n]["shape"] for n in matching.assigned}
-    counted = Counter(m.shape for m in measured)
-    most = {s: max(counted[s], list(shape_of.values()).count(s))
-            for s in {*counted, *shape_of.values()}}
+    # blocks per shape: the first look's count, or the plan's where it names more
+    most = Counter(m.shape for m in measured) | Counter(shape_of.values())
     eyes = Eyes(world, renderer, sc.shapes, shape_of, most)
     injector = FaultInjector(world, sc.faults, {n: n for n in world.names})
     watch = RobotWatch(Renderer(default_cameras(), pixel_noise=sc.noise.pixel, seed=sc.seed + 1),

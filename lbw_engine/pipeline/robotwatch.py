@@ -53,7 +53,7 @@ class RobotWatch:
         from perception.vision.envnodes.registry import new_recognizer
 
         self.rec, _ = new_recognizer(self.renderer.cameras, self.shapes, self.rules,
-                                     located, located=located)
+                                     located=located)
 
     def end(self) -> list[Any]:
         """Stop watching the unit: the recognized ACT-nodes of its Task, in order."""

@@ -82,7 +82,7 @@ class ObjectFinder(VFD):
             for k, rect in enumerate(faces):
                 h, sc = height_of(k, pairing)
                 if sc >= MIN_SCORE:
-                    cols.append((*self._footprint(rect, h), h))
+                    cols.append((*self.footprint(rect, h), h))
             return check.wrong_pixels(cols)
 
         check = SilhouetteCheck(self.cameras, {"top": self._read_full("top", frame.top) >
@@ -93,10 +93,10 @@ class ObjectFinder(VFD):
             height, score = height_of(k, pairing)
             if score < MIN_SCORE:
                 continue
-            boxes.append((height, self._footprint(rect, height), rect))
+            boxes.append((height, self.footprint(rect, height), rect))
         rings = rims.find_rims(boxes, 0.6 * smallest)
         framing = rims.pieces(boxes, rings, 0.6 * smallest)
-        boxes = rims.complete_rims(boxes, framing, self._footprint, shapes)
+        boxes = rims.complete_rims(boxes, framing, self.footprint, shapes)
         found = []
         for k, (height, (x0, y0, x1, y1), _) in enumerate(boxes):
             if k in framing:
@@ -149,8 +149,8 @@ class ObjectFinder(VFD):
             if rest < 5.0 or not self._crease_at(cam, side, (cx, front, seam)):
                 continue
             if ring is not None:  # the lower block's outline is the ring's, or shows in it
-                done = rims.complete_rim(self._footprint(ring, seam), rims.cover_of(
-                    obj, self._footprint(face, seam)), (cx, cy), rest, shapes)
+                done = rims.complete_rim(self.footprint(ring, seam), rims.cover_of(
+                    obj, self.footprint(face, seam)), (cx, cy), rest, shapes)
                 if done is None:
                     continue
                 low_name, low_at, low_xy, low_err = done
@@ -161,7 +161,7 @@ class ObjectFinder(VFD):
                     continue
                 width, mid = run
                 # wider than what the upper block hides from above: its top would show
-                c0, d0, c1, d1 = rims.cover_of(obj, self._footprint(face, seam))
+                c0, d0, c1, d1 = rims.cover_of(obj, self.footprint(face, seam))
                 fits = {n: abs(lx - width) + abs(lz - rest)
                         for n, (lx, ly, lz) in shapes.items()
                         if lx <= max(sx, c1 - c0) + 8.0 and ly <= max(sy, d1 - d0) + 8.0}
@@ -261,7 +261,7 @@ class ObjectFinder(VFD):
                     rects.append(rect)
         return rects
 
-    def _footprint(self, rect, height: float) -> tuple[float, float, float, float]:
+    def footprint(self, rect, height: float) -> tuple[float, float, float, float]:
         """World extents (x0, y0, x1, y1) of a top-face pixel rectangle at ``height``."""
         cam = self.cameras["top"]
         pts = np.array([cam.point_on_plane_z((u, v), height)[:2]
@@ -284,7 +284,7 @@ class ObjectFinder(VFD):
 
         def ious(h: float) -> np.ndarray | None:
             """IoU of the lifted footprint with every side top face, times the solid part."""
-            x0, y0, x1, y1 = self._footprint(rect, h)
+            x0, y0, x1, y1 = self.footprint(rect, h)
             quad = np.array([[x0, y0, h], [x1, y0, h], [x1, y1, h], [x0, y1, h]])
             uv = cam.project(quad)
             ox, oy = np.floor(uv.min(axis=0)).astype(int) - 1
@@ -354,7 +354,7 @@ class ObjectFinder(VFD):
 
     def _column_hull(self, rect, h: float, shape) -> tuple[tuple[int, int], np.ndarray] | None:
         """Side-view mask (origin, mask) of the box [footprint at h] x [0, h], if in view."""
-        x0, y0, x1, y1 = self._footprint(rect, h)
+        x0, y0, x1, y1 = self.footprint(rect, h)
         corners = np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1) for z in (0.0, h)])
         uv = self.cameras["side"].project(corners)
         ox, oy = np.floor(uv.min(axis=0)).astype(int)

@@ -47,10 +47,14 @@ Expected = tuple[str, Sequence[float], Sequence[float]]  # shape, centre, size
 class Silhouettes:
     """Wrong pixels of a set of boxes (centre, size) against both views' non-dark masks."""
 
-    def __init__(self, cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray]) -> None:
-        """``images`` holds the ``top`` and ``side`` gray views."""
+    def __init__(self, cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
+                 sizes: Sequence[Sequence[float]] = ()) -> None:
+        """``images`` holds the ``top`` and ``side`` gray views; ``sizes``, the blocks
+        expected, sets the smallest top face looked for in the top view (``faces``)."""
         self.cameras = cameras
-        self.faces: list[tuple[float, float, float, float]] = []  # top faces (top view px)
+        self.finder = ObjectFinder(cameras, VisionResources())
+        self.faces = self.finder.top_faces(images["top"], self.finder.smallest_face_px(
+            dict(enumerate(sizes)))) if sizes else []  # top faces' pixel rectangles
         self.solid = {n: (images[n] > DARK_MAX).astype(np.uint8) for n in ("top", "side")}
 
     def wrong(self, boxes: Sequence[tuple[Sequence[float], Sequence[float]]],
@@ -109,10 +113,7 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
     ``most`` bounds how many blocks of each shape the workspace holds (see
     ``_too_many``).
     """
-    check = Silhouettes(cameras, images)
-    finder = ObjectFinder(cameras, VisionResources())
-    sizes = {n: e[2] for n, e in expected.items()}
-    check.faces = finder.top_faces(images["top"], finder.smallest_face_px(sizes)) if sizes else []
+    check = Silhouettes(cameras, images, [e[2] for e in expected.values()])
     boxes: list[FoundObject | None] = list(found)
     named: dict[str, int] = {}
 
@@ -252,13 +253,11 @@ def _face_seen(c: Sequence[float], size: Sequence[float], check: Silhouettes) ->
     lies where its top is (within TOP_MM). The finder's reading can miss it when it pairs
     faces with side-view heights wrongly (a brick on a disc at 4x pixel noise: the disc's
     visible ring was taken for the brick, 9 mm off); the face itself is plain to see."""
-    cam, top = check.cameras["top"], c[2] + size[2] / 2.0
+    top = c[2] + size[2] / 2.0
     for rect in check.faces:
-        pts = np.array([cam.point_on_plane_z((u, v), top)[:2]
-                        for u in (rect[0], rect[2]) for v in (rect[1], rect[3])])
-        lo, hi = pts.min(axis=0), pts.max(axis=0)
-        if all(abs((lo[k] + hi[k]) / 2.0 - c[k]) <= TOP_MM for k in (0, 1)) and \
-                sum(abs(hi[k] - lo[k] - size[k]) for k in (0, 1)) <= SIZE_MM:
+        x0, y0, x1, y1 = check.finder.footprint(rect, top)
+        if abs((x0 + x1) / 2.0 - c[0]) <= TOP_MM and abs((y0 + y1) / 2.0 - c[1]) <= TOP_MM \
+                and abs(x1 - x0 - size[0]) + abs(y1 - y0 - size[1]) <= SIZE_MM:
             return True
     return False
 
