@@ -6,6 +6,10 @@ expected poses, and checks what the cameras are said to show.
 
 from __future__ import annotations
 
+import math
+
+import pytest
+
 from perception.vision.camera import default_cameras
 from perception.vision.vfd.objects import FoundObject
 from perception.vision.vfd.objects_posed import Silhouettes, _drop_unseen, explain
@@ -98,8 +102,8 @@ def test_a_top_face_plain_in_the_top_view_counts_though_the_finder_misread_it():
                FoundObject("block", (-195.0, 210.0, 94.0), (46.0, 37.0, 53.0), 0.0)]
     boxes, named, _ = explain(cams, images, misread, tower)
     assert sorted(named) == ["b1", "b2", "b3"]
-    for n, (_, c, _) in tower.items():
-        assert boxes[named[n]].position == c
+    for n, (_, c, _) in tower.items():  # the brick's top measured, within a pixel
+        assert math.dist(boxes[named[n]].position, c) <= 2.5
 
 
 def test_a_misread_shape_does_not_push_a_real_block_out():
@@ -118,3 +122,23 @@ def test_a_misread_shape_does_not_push_a_real_block_out():
     boxes, named, _ = explain(cams, images, found, arch, most)
     assert sorted(named) == ["pillar", "plank"]
     assert boxes[named["pillar"]].position == arch["pillar"][1]
+
+
+LEG, PLATE = (30.0, 30.0, 50.0), (120.0, 100.0, 10.0)
+
+
+@pytest.mark.parametrize("dx, dy", [(0.0, 0.0), (0.0, -6.0), (7.0, 0.0), (-5.0, 5.0)])
+def test_an_uncovered_top_is_measured_where_it_lies(dx, dy):
+    """Fault bench seed 3000 (a drop): a table's top fell onto its legs 5 mm from its goal.
+    Posed at its goal it explained the views (the silhouette test forgives a pixel, about
+    2.5 mm, and the outline bands), so the cameras passed a top the simulator failed. An
+    uncovered top takes the x, y of its top face in the top view instead."""
+    legs = {f"leg{i}": ("brick", (x, y, 25.0), LEG)
+            for i, (x, y) in enumerate([(-88, 254), (-86, 323), (-6, 324), (-13, 254)])}
+    goal = (-47.0, 288.0, 55.0)
+    where = (goal[0] + dx, goal[1] + dy, goal[2])
+    cams, images = _views({**legs, "top": ("plate", where, PLATE)})
+    found = [FoundObject("plate", where, (120.0, 100.0, 60.0), 0.0)]  # a column to the table
+    boxes, named, _ = explain(cams, images, found, {**legs, "top": ("plate", goal, PLATE)})
+    got = boxes[named["top"]].position
+    assert math.dist(got[:2], where[:2]) <= 2.0, got
