@@ -118,10 +118,18 @@ def differences(expected: Sequence[Op], seen: Sequence[Op]) -> list[dict[str, An
 
 
 def _diff(e: Op | None, g: Op | None) -> dict[str, Any]:
-    """One difference record."""
+    """One difference record (``unplaced``: an executed place not seen as executed)."""
     obj = e.object if e is not None else g.object if g is not None else None
     return {"object": obj, "expected": e.text() if e else None,
-            "observed": g.text() if g else None}
+            "observed": g.text() if g else None,
+            "unplaced": e is not None and e.kind == "place" and e.object is not None}
+
+
+def unplaced(diffs: Sequence[dict]) -> set[str]:
+    """Objects whose executed place was not seen, or seen elsewhere or as another
+    operation: something else moved them (a drop), so where they lie is suspect even
+    when the cameras measure them within tolerance of their goal."""
+    return {d["object"] for d in diffs if d.get("unplaced")}
 
 
 def operation_detections(operator: str, diffs: Sequence[dict], t: float) -> list[dict]:

@@ -9,7 +9,8 @@ recognizer saw the gripper do during it (``robotwatch``) are compared with the
 executed ones (``lbw_engine.do.opcheck``). A difference is a detection; a state
 difference starts a repair: the measured state is matched against the plan
 again and the undone ACHIEVEs are re-traced and executed with the rest, within
-a bounded number of repairs.
+a bounded number of repairs. A place the watch did not see (a drop that landed
+within the cameras' tolerance) is redone too, once per object.
 The same measurement, on the final views, gives the cameras' verdict.
 """
 
@@ -40,6 +41,7 @@ from lbw_engine.do.opcheck import (
     moving_operations,
     operation_detections,
     recognized_ops,
+    unplaced,
 )
 from lbw_engine.do.plan import Plan
 from lbw_engine.do.tracing import TracedOp, trace
@@ -120,7 +122,7 @@ class Monitored:
     detections: list[dict] = field(default_factory=list)
     repairs: list[dict] = field(default_factory=list)
     units: int = 0
-    rounds: int = 0  # repairs begun
+    rounds: int = 0  # repairs begun for a state difference (bounded by MAX_REPAIRS)
     spans: list[dict] = field(default_factory=list)  # each unit: operator, t_start, t_end
     current: str | None = None  # the ACHIEVE under way (the execution video shows it)
     operations: list[dict] = field(default_factory=list)  # each unit: executed vs recognized
@@ -154,6 +156,7 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
     out = out if out is not None else Monitored([], tr.model)
     out.model = tr.model
     done: list[Unit] = []
+    suspected: set[str] = set()  # objects redone once for an unseen place
     while todo:
         unit = todo.pop(0)
         out.units += 1
@@ -169,9 +172,13 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         done.append(unit)
         step_aside(robot, rules)
         robot.settle(LOOK_SETTLE_S)
-        seen_ops = [] if watch is None else _compare_ops(
+        seen_ops, missed = ([], set()) if watch is None else _compare_ops(
             unit, watch.end(), moving, robot.world.time, out.operations)
         out.detections.extend(seen_ops)
+        # A place the watch did not see is redone once, however well the object landed;
+        # a second miss on the same object is the recognizer's, not the robot's.
+        dropped = missed - suspected
+        suspected |= dropped
         seen = eyes.look(unit.expected)
         out.spans.append({"operator": unit.operator, "t_start": round(t0, 2),
                           "t_end": round(robot.world.time, 2)})
@@ -180,14 +187,14 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         hint.update({f"{SPARE_PREFIX}{i}": (seen.measured[i].shape, seen.measured[i].position)
                      for i in seen.spares})
         verdict = verify(unit.expected, unit.supports, seen.states, rules.support_relations)
-        if verdict.success:
+        if verdict.success and not dropped:
             continue
         out.detections.extend(detections(unit, verdict.mismatches, robot.world.time))
-        out.rounds += 1
+        out.rounds += not verdict.success  # a redo for an unseen place is bounded by itself
         if out.rounds > MAX_REPAIRS:
             raise TaskFailed(f"still wrong after {MAX_REPAIRS} repairs: "
-                             + _why(verdict))
-        wrong = {m["object"] for m in verdict.mismatches}
+                             + _why(verdict, dropped))
+        wrong = {m["object"] for m in verdict.mismatches} | dropped
         _upright(wrong, seen, eyes)
         redo = undone(done, wrong, plan_supports)
         rest = todo
@@ -214,9 +221,10 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
 
 
 def _compare_ops(unit: Unit, nodes: list, moving: Mapping[str, tuple], t: float,
-                 record: list[dict]) -> list[dict]:
+                 record: list[dict]) -> tuple[list[dict], set[str]]:
     """The unit's recognized operations against its executed ones (do/opcheck.py): the
-    object-moving ones must agree in order; all are recorded in ``record``."""
+    object-moving ones must agree in order; all are recorded in ``record``. Returns the
+    detections and the objects whose place was not seen as executed."""
     done, seen = executed_ops(unit.ops, moving), recognized_ops(nodes, moving)
     diffs = differences(done, seen)
     record.append({"operator": unit.operator,
@@ -225,7 +233,7 @@ def _compare_ops(unit: Unit, nodes: list, moving: Mapping[str, tuple], t: float,
                    "moving": {"executed": [o.text() for o in done],
                               "recognized": [o.text() for o in seen]},
                    "agree": not diffs})
-    return operation_detections(unit.operator, diffs, t)
+    return operation_detections(unit.operator, diffs, t), unplaced(diffs)
 
 
 def step_aside(robot: Any, rules: Any) -> None:
@@ -282,7 +290,8 @@ def _dims(size: Any) -> str:
     return " x ".join(f"{v:.0f}" for v in size)
 
 
-def _why(verdict: Verdict) -> str:
-    """The mismatches in one sentence."""
-    return "; ".join(m["message"] for m in verdict.mismatches)
+def _why(verdict: Verdict, dropped: set[str]) -> str:
+    """The mismatches (and the places not seen) in one sentence."""
+    return "; ".join([m["message"] for m in verdict.mismatches]
+                     + [f"the place of '{n}' was not seen" for n in sorted(dropped)])
 

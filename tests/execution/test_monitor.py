@@ -84,6 +84,23 @@ def test_no_detection_without_faults(tmp_path, capsys):
     assert report["verification"] == {"cameras": True, "ground_truth": True}
 
 
+def test_a_place_the_watch_did_not_see_is_redone_once(tmp_path, capsys, monkeypatch):
+    """A drop can land within the cameras' tolerance of the goal (fault bench seed 3000:
+    a table top, 5.1 mm off, passed the look). The watch, which saw no place, is the
+    evidence: the unit is redone. A second miss on the same object is the recognizer's
+    (a watch that sees nothing here), so it is redone once, not until the repairs run out."""
+    from lbw_engine.pipeline.robotwatch import RobotWatch
+
+    monkeypatch.setattr(RobotWatch, "end", lambda self: [])
+    code, report, err = execute(tmp_path, "tower", bundled_scenario("tower"), capsys)
+    assert code == 0, err
+    units = sorted({u["operator"] for u in report["monitor"]["units"]})
+    assert sorted(r["operator"] for r in report["monitor"]["repairs"]) == units
+    missed = [d for d in report["monitor"]["detections"] if d["kind"] == "operation"]
+    assert missed and all(d["observed"] is None for d in missed)
+    assert report["verification"] == {"cameras": True, "ground_truth": True}
+
+
 HIDDEN = Path(__file__).resolve().parent / "data"
 
 
