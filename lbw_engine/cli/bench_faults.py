@@ -14,6 +14,11 @@ fault, from the execution reports (ground truth only for scoring):
   removed with no spare of its shape, or a block lying on its side (the
   robot's grasps keep a block's orientation; the ground truth confirms it);
 * every run that is not repaired must end with a reason (exit 1).
+
+A plan learned wrong cannot be done with or without faults (its fault-free run
+fails, and so does the plan executed unmonitored): the monitor rightly reports
+its wrong structure. Such a scenario's runs measure the recognizer (issue #12),
+not the monitor, so they are counted apart (``plan_executable`` in the records).
 """
 
 from __future__ import annotations
@@ -48,6 +53,7 @@ def run_faults_one(task: tuple[int, str, str | None, str]) -> list[dict[str, Any
         return [{**base, "kind": "none", "error": "the demonstration did not give a plan"}]
     rng = np.random.default_rng(seed)
     out = []
+    executable = True
     for kind in KINDS:
         faults, extra = draw_faults(kind, gen.scenario(), plan, rng)
         if faults is None:
@@ -55,11 +61,30 @@ def run_faults_one(task: tuple[int, str, str | None, str]) -> list[dict[str, Any
         rec = {**base, "kind": kind}
         try:
             _execute(rec, gen.text, faults, extra, plan, rules)
+            if kind == "none":
+                executable = _executable(rec, gen.text, plan, rules)
         except Exception as exc:
             rec["error"] = f"{type(exc).__name__}: {exc}"
             rec["traceback"] = traceback.format_exc(limit=-6)
+        rec["plan_executable"] = executable
         out.append(rec)
     return out
+
+
+def _executable(rec: dict[str, Any], text: str, plan: Any, rules: Any) -> bool:
+    """Whether the learned plan can be done at all: its fault-free run verified by the
+    simulator, or, when it did not, the plan executed unmonitored (``--via bt``) without
+    faults verifies. A plan learned wrong (a recognition error, issue #12: a place on the
+    table read as a place across its two neighbours) cannot; its runs measure the
+    recognizer, not the monitor, and are counted apart."""
+    from lbw_engine.pipeline.execute import execute_plan
+    from perception.world.scenario import load_text
+
+    if rec.get("success") and (rec.get("verification") or {}).get("ground_truth"):
+        return True
+    result = execute_plan(plan, load_text(text, f"<faults seed {rec['seed']} plan>"), rules,
+                          via="bt")
+    return bool((result.report.get("verification") or {}).get("ground_truth"))
 
 
 def _learn(sc: Any, rules_dir: str | None) -> tuple[Any, Any]:
@@ -202,7 +227,9 @@ def _relevant(sc: Any, report: dict[str, Any]) -> set[str]:
 
 def summarize_faults(records: list[dict[str, Any]]) -> dict[str, Any]:
     """The issue's figures over all runs."""
-    runs = [r for r in records if "error" not in r]
+    wrong_plans = [r for r in records if "error" not in r and r["kind"] == "none"
+                   and not r.get("plan_executable", True)]
+    runs = [r for r in records if "error" not in r and r.get("plan_executable", True)]
     free = [r for r in runs if r["kind"] == "none"]
     faulty = [r for r in runs if any(f["relevant"] for f in r["faults"])]
     injected = [f for r in runs for f in r["faults"] if f["relevant"]]
@@ -210,7 +237,8 @@ def summarize_faults(records: list[dict[str, Any]]) -> dict[str, Any]:
     unrepaired = [r for r in faulty if not r["success"]]
     verdicts = [r for r in runs if isinstance(r.get("verification"), dict)]
     return {
-        "runs": len(records), "crashed": len(records) - len(runs),
+        "runs": len(records), "crashed": sum(1 for r in records if "error" in r),
+        "plans_not_executable": len(wrong_plans),
         "fault_free_runs": len(free),
         "fault_free_without_detection": sum(1 for r in free if not r["detections"]),
         "faults_injected": len(injected),
@@ -242,7 +270,8 @@ def format_faults(s: dict[str, Any]) -> str:
         f" (of {s['faulty_runs']} runs with faults)",
         f"unrepaired runs with a reason:  {pct(s['unrepaired_with_reason'], s['unrepaired_runs'])}",
         f"cameras agree with the truth:   {pct(s['verdicts_agree'], s['verdict_runs'])}",
-        f"runs: {s['runs']}, crashed: {s['crashed']}",
+        f"runs: {s['runs']}, crashed: {s['crashed']}, plans that fail without faults "
+        f"(learned wrong; their runs not counted above): {s.get('plans_not_executable', 0)}",
     ])
 
 

@@ -4,10 +4,11 @@ from lbw_engine.cli.bench_faults import format_faults, summarize_faults
 
 
 def run(kind, faults, success, detections=(), repairable=True, failure=None,
-        cams=True, truth=True):
-    return {"seed": 1, "level": "nominal", "kind": kind, "faults": list(faults),
+        cams=True, truth=True, seed=1, executable=True):
+    return {"seed": seed, "level": "nominal", "kind": kind, "faults": list(faults),
             "success": success, "detections": list(detections), "repairable": repairable,
-            "failure": failure, "verification": {"cameras": cams, "ground_truth": truth}}
+            "failure": failure, "verification": {"cameras": cams, "ground_truth": truth},
+            "plan_executable": executable}
 
 
 def fault(kind, detected, relevant=True):
@@ -25,12 +26,17 @@ RECORDS = [
     run("drop+displace", [fault("drop", True), fault("displace", False)], False, [{"t": 6.0}],
         failure="verification: ...", cams=False, truth=True),
     {"seed": 2, "level": "nominal", "kind": "none", "error": "boom"},
+    # a plan learned wrong (it fails without faults, unmonitored too): the monitor rightly
+    # detects its wrong structure; its runs measure the recognizer and are counted apart
+    run("none", [], False, [{"t": 3.0}], failure="execution: ...", seed=3, executable=False),
+    run("drop", [fault("drop", True)], False, [{"t": 6.0}], failure="execution: ...", seed=3,
+        executable=False),
 ]
 
 
 def test_figures():
     s = summarize_faults(RECORDS)
-    assert (s["runs"], s["crashed"]) == (7, 1)
+    assert (s["runs"], s["crashed"], s["plans_not_executable"]) == (9, 1, 1)
     assert (s["fault_free_without_detection"], s["fault_free_runs"]) == (1, 2)
     assert (s["faults_detected"], s["faults_injected"]) == (3, 4)
     assert s["faults_on_unused_objects"] == 1
@@ -40,3 +46,4 @@ def test_figures():
     text = format_faults(s)
     assert "faults detected:                3/4 (75%) (+1 on objects the plan does not use)" in text
     assert "cameras agree with the truth:   5/6 (83%)" in text
+    assert "runs: 9, crashed: 1, plans that fail without faults" in text
