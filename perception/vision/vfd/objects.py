@@ -13,7 +13,7 @@ name is the nearest size in the shape database.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
@@ -27,6 +27,7 @@ TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
 MIN_FACE_PX = 6
 STACK_MISMATCH_MM = 8.0  # a column this far from every shape may be a stack of two
+RING_HIDDEN_MM = 6.0  # a top-face ring this thin (2 px from above) merges into its outline
 CREASE_MAX = 110  # crease lines are drawn at 60, faces at 170 and brighter
 FRONT_BAND = (150, 190)  # faces facing -y (the side camera) are drawn at 170
 MIN_SCORE = 0.25  # correspondence score (IoU x solid fraction) taken as a match
@@ -112,6 +113,7 @@ class ObjectFinder(VFD):
             stack = self._hidden_stack(single, base, y0, side_img, shapes, rings.get(k),
                                        boxes[k][2])
             found.extend(stack or [single])
+        found = _consistent(found, shapes)
         self._found = bool(found)
         self._target = np.array([f.position for f in found]) if found else None
         return found
@@ -142,8 +144,10 @@ class ObjectFinder(VFD):
         cx, cy = obj.position[:2]
         best = None
         for top_name, (tx, ty, tz) in shapes.items():
-            if abs(tx - sx) + abs(ty - sy) > STACK_MISMATCH_MM:
+            if abs(tx - sx) + abs(ty - sy) > STACK_MISMATCH_MM and not _inside_thin_ring(
+                    (tx, ty), (sx, sy)):
                 continue
+            tx, ty = (tx, ty) if abs(tx - sx) + abs(ty - sy) > STACK_MISMATCH_MM else (sx, sy)
             rest = sz - tz
             seam = base + rest
             if rest < 5.0 or not self._crease_at(cam, side, (cx, front, seam)):
@@ -164,7 +168,8 @@ class ObjectFinder(VFD):
                 c0, d0, c1, d1 = rims.cover_of(obj, self.footprint(face, seam))
                 fits = {n: abs(lx - width) + abs(lz - rest)
                         for n, (lx, ly, lz) in shapes.items()
-                        if lx <= max(sx, c1 - c0) + 8.0 and ly <= max(sy, d1 - d0) + 8.0}
+                        if _inside_thin_ring((max(sx, c1 - c0), max(sy, d1 - d0)), (lx, ly))
+                        or (lx <= max(sx, c1 - c0) + 8.0 and ly <= max(sy, d1 - d0) + 8.0)}
                 if not fits:
                     continue
                 low_name = min(fits, key=fits.get)
@@ -173,13 +178,20 @@ class ObjectFinder(VFD):
                 low_at = (mid, cy)  # x from the front face: the upper block may stand off-centre
             err = abs(tx - sx) + abs(ty - sy) + low_err
             if best is None or err < best[0]:
-                best = (err, top_name, tz, low_name, low_size, low_at, seam)
+                best = (err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam)
         if best is None or (ring is None and best[0] >= obj.mismatch):
             return None
-        err, top_name, tz, low_name, low_size, low_at, seam = best
-        return [FoundObject(low_name, (float(low_at[0]), float(low_at[1]), base + low_size[2] / 2),
-                            tuple(float(v) for v in low_size), err),
-                FoundObject(top_name, (cx, cy, seam + tz / 2.0), (sx, sy, base + sz - seam), err)]
+        err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam = best
+        low = FoundObject(low_name, (float(low_at[0]), float(low_at[1]), base + low_size[2] / 2),
+                          tuple(float(v) for v in low_size), err)
+        top = FoundObject(top_name, (cx, cy, seam + tz / 2.0), (tx, ty, base + sz - seam), err)
+        # The lower piece may be a stack itself (three blocks, each ring too thin to see):
+        # split it again where its own column fits no shape.
+        low_fit = nearest(shapes, np.array(low.size))[1]
+        deeper = None if low_fit < STACK_MISMATCH_MM else self._hidden_stack(
+            replace(low, mismatch=low_fit), base, front, side, shapes, None,
+            face if ring is None else ring)
+        return [*(deeper or [low]), top]
 
     @staticmethod
     def _crease_at(cam, side: np.ndarray, point) -> bool:
@@ -397,3 +409,48 @@ class ObjectFinder(VFD):
         n = int(inside.sum())
         return float(solid[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][inside].sum()) / n \
             if n else 0.0
+
+
+def _inside_thin_ring(top: Sequence[float], outline: Sequence[float]) -> bool:
+    """Whether a block of footprint ``top`` can stand centred on a face the top view
+    measured as ``outline`` with only a ring thinner than RING_HIDDEN_MM around it: the
+    ring's creases leave no face pixel between them, so the measured outline is the
+    lower block's (a cube on a block under a tile: three blocks, one face)."""
+    return all(0.0 <= o - t <= 2.0 * RING_HIDDEN_MM for t, o in zip(top, outline, strict=False))
+
+
+def _consistent(found: list[FoundObject], shapes: Mapping[str, Sequence[float]]
+                ) -> list[FoundObject]:
+    """Drop readings that fit no shape and overlap the footprint of a lower block found
+    under a stack: pieces of that block's thin ring (3 px here, 2 there, at pixel noise)
+    read as columns of their own, their heights and so their footprints wrong."""
+    def over(f: FoundObject, g: FoundObject) -> bool:
+        return all(abs(f.position[k] - g.position[k]) < (f.size[k] + g.size[k]) / 2.0
+                   for k in (0, 1))
+
+    def fits(f: FoundObject) -> bool:
+        return nearest(shapes, np.array(f.size))[1] < STACK_MISMATCH_MM
+
+    kept = [f for f in found if fits(f) or not any(
+        g is not f and fits(g) and g.position[2] < f.position[2] and over(f, g) and any(
+            h is not g and h is not f and h.position[2] > g.position[2] and over(h, g)
+            for h in found)
+        for g in found)]
+    # Two faces of one stack (a ring piece beside the top face, near the camera's axis)
+    # can each be read as the whole stack: readings that fill the same space are one
+    # block read twice; the one nearer a shape stays.
+    out: list[FoundObject] = []
+    for f in sorted(kept, key=lambda f: nearest(shapes, np.array(f.size))[1]):
+        if not any(_shared(f, g) > 0.5 for g in out):
+            out.append(f)
+    return [f for f in found if f in out]
+
+
+def _shared(a: FoundObject, b: FoundObject) -> float:
+    """The volume two readings' boxes share, as a share of the smaller box."""
+    common = 1.0
+    for k in range(3):
+        lo = max(a.position[k] - a.size[k] / 2.0, b.position[k] - b.size[k] / 2.0)
+        hi = min(a.position[k] + a.size[k] / 2.0, b.position[k] + b.size[k] / 2.0)
+        common *= max(0.0, hi - lo)
+    return common / max(1e-9, min(float(np.prod(a.size)), float(np.prod(b.size))))
