@@ -95,7 +95,8 @@ class ObjectFinder(VFD):
             if score < MIN_SCORE:
                 continue
             boxes.append((height, self.footprint(rect, height), rect))
-        rings = rims.find_rims(boxes, 0.6 * smallest)
+        thinnest = min((float(v[2]) for v in shapes.values()), default=0.0)
+        rings = rims.find_rims(boxes, 0.6 * smallest, thinnest)
         framing = rims.pieces(boxes, rings, 0.6 * smallest)
         boxes = rims.complete_rims(boxes, framing, self.footprint, shapes)
         found = []
@@ -424,9 +425,9 @@ def _consistent(found: list[FoundObject], shapes: Mapping[str, Sequence[float]]
     """Drop readings that fit no shape and overlap the footprint of a lower block found
     under a stack: pieces of that block's thin ring (3 px here, 2 there, at pixel noise)
     read as columns of their own, their heights and so their footprints wrong."""
-    def over(f: FoundObject, g: FoundObject) -> bool:
+    def over(f: FoundObject, g: FoundObject) -> bool:  # footprints meet, or nearly
         return all(abs(f.position[k] - g.position[k]) < (f.size[k] + g.size[k]) / 2.0
-                   for k in (0, 1))
+                   + RING_HIDDEN_MM for k in (0, 1))
 
     def fits(f: FoundObject) -> bool:
         return nearest(shapes, np.array(f.size))[1] < STACK_MISMATCH_MM
