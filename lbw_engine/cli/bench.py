@@ -141,57 +141,58 @@ def run_one(task: tuple[int, str, str, str | None]) -> dict[str, Any]:
 
 
 def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
-    """Run the phases on ``sc`` and fill ``rec`` with the figures."""
-    from lbw_engine.do import plan as planmod
-    from lbw_engine.pipeline.execute import execute_plan
-    from lbw_engine.pipeline.run import foreign_objects
-    from lbw_engine.pipeline.watch import repair, watch
-    from lbw_engine.see.actions import to_actions
-    from lbw_engine.understand import RelationTable, analyze, parse_actions
+    """Run the pipeline on ``sc`` as ``lbw run`` does (lbw_engine.pipeline.run) and fill
+    ``rec`` with the figures; the ground truth is read only to score."""
+    from lbw_engine.pipeline.run import foreign_objects, run
+    from lbw_engine.pipeline.watch import watch
     from perception.world.demonstrator import Demonstration
     from perception.world.groundtruth import ground_truth
 
-    rules, arules, crules = _rules(rules_dir)
+    rules, _, _ = _rules(rules_dir)
     demo = Demonstration(sc)
     truth = [{"operation": t.operation, "t_start": t.t_start, "t_end": t.t_end}
              for t in ground_truth(sc, rules, demo)]
     rec["demo_seconds"] = demo.duration
-    clock = start = time.perf_counter()
-    recognizer, hand = watch(sc, rules)
-    actions = to_actions(recognizer)
-    rec["watch_seconds"] = time.perf_counter() - clock
-    rec["pixels_per_frame"] = sum(hand.sight.pixels) / max(1, len(hand.sight.pixels))
-    rec.update(compare_sequence(truth, actions["operations"]))
-    repaired = repair(actions, rules)  # Sec. IX-C2: analysis reads the repaired sequence
-    rec["repairs"] = len(repaired.repairs)
-    rec["exact_repaired"] = compare_sequence(truth, repaired.actions["operations"])["exact"]
-    actions = repaired.actions
+    seen: dict[str, Any] = {}
+
+    def watcher(scenario: Any, rules_: Any, fps: float) -> Any:
+        recognizer, seen["hand"] = watch(scenario, rules_, fps=fps)
+        return recognizer
+
+    start = time.perf_counter()
+    result = run(sc, rules_dir, watcher=watcher, rules=rules)
+    rec["watch_seconds"] = result.seconds["watch"]
+    sight = seen["hand"].sight.pixels
+    rec["pixels_per_frame"] = sum(sight) / max(1, len(sight))
+    rec.update(compare_sequence(truth, result.raw["operations"]))
+    rec["repairs"] = result.recognition["repair"]["repairs"]
+    rec["exact_repaired"] = compare_sequence(truth, result.actions["operations"])["exact"]
     rec["plan_correct"] = rec["execution_success"] = False
-    clock = time.perf_counter()
-    try:
-        seq = parse_actions(actions, RelationTable(arules.tolerance), file="actions.json")
-        plan = analyze(seq, arules).plan
-    except InputError as exc:
-        rec["failure"] = f"analysis: {exc}"
-    else:
+    wrong = foreign_objects(sc, result.actions)
+    if result.plan is not None:
+        rec["analyze_seconds"] = result.seconds["analyze"]
         rec["plan_correct"] = plan_final_relations(
-            plan, rules.roles.support, teach_rename(actions, sc)) == true_final(sc, rules.roles)
-        rec["analyze_seconds"] = time.perf_counter() - clock
-        wrong = foreign_objects(sc, actions)
-        if wrong:  # as in lbw run: the right operations on objects not shown
-            rec["failure"] = f"recognition: {wrong}"
-            rec["total_seconds"] = time.perf_counter() - start
-            return
-        clock = time.perf_counter()
-        result = execute_plan(planmod.parse(plan, file="plan.json"), sc, rules)
-        rec["execute_seconds"] = time.perf_counter() - clock
-        rec["execution_success"] = bool(result.success)
-        checks = result.report.get("verification")
+            result.plan, rules.roles.support,
+            teach_rename(result.actions, sc)) == true_final(sc, rules.roles)
+    if result.execution is not None and not wrong:
+        rec["execute_seconds"] = result.seconds["execute"]
+        rec["execution_success"] = bool(result.execution.success)
+        checks = result.execution.report.get("verification")
         if isinstance(checks, dict):  # the cameras' verdict against the simulator's
             rec["verdicts_agree"] = checks["cameras"] == checks["ground_truth"]
-        if not result.success:
-            rec["failure"] = f"execution: {result.message}"
+    failure = first_failure(result.phases, wrong)
+    if failure is not None:
+        rec["failure"] = failure
     rec["total_seconds"] = time.perf_counter() - start
+
+
+def first_failure(phases: dict[str, str], foreign: str | None) -> str | None:
+    """A record's ``failure``: the right operations on objects the teach workspace does not
+    hold fail recognition; otherwise the first phase after recognition that failed (a
+    sequence difference is the record's ``exact``), as ``phase: why``."""
+    if foreign:
+        return f"recognition: {foreign}"
+    return next((f"{k}: {v}" for k, v in phases.items() if k != "recognition"), None)
 
 
 def _progress(done: int, total: int, started: float, exact: int) -> None:

@@ -50,6 +50,8 @@ class RunResult:
     failure: str | None = None  # first phase that failed, with why
     seconds: dict[str, float] = field(default_factory=dict)
     rules: Any = None  # the RuleSet the run used
+    raw: dict[str, Any] | None = None  # actions.json as recognized, before repair
+    phases: dict[str, str] = field(default_factory=dict)  # every phase that failed: why
 
     @property
     def success(self) -> bool:
@@ -141,16 +143,17 @@ def verdict_words(recognition: dict[str, Any]) -> str:
 
 def run(scenario: Any, rules_dir: Any = None, fps: float = 30.0,
         watcher: Callable[..., Any] | None = None,
-        on_step: Callable[[Any], None] | None = None) -> RunResult:
+        on_step: Callable[[Any], None] | None = None,
+        rules: RuleSet | None = None) -> RunResult:
     """Run watch → analyze → execute on a loaded scenario; never raises for a failed task.
 
     ``watcher(scenario, rules, fps)`` replaces the plain watch (it must return
     the recognizer), e.g. to draw the monitor display; ``on_step(world)`` is
     called after every step of the robot's world (to record the execution).
     Every phase that can run does (its files are written); ``failure`` names the
-    first that went wrong.
+    first that went wrong. ``rules``: the RuleSet already loaded from ``rules_dir``.
     """
-    rules = load_rules(rules_dir)
+    rules = rules if rules is not None else load_rules(rules_dir)
     clock = time.perf_counter()
     if watcher is None:
         recognizer, _ = watch(scenario, rules, fps=fps)
@@ -163,9 +166,9 @@ def run(scenario: Any, rules_dir: Any = None, fps: float = 30.0,
     actions = repaired.actions
     result = RunResult(scenario, actions,
                        with_repair(compare_with_truth(scenario, raw, rules), repaired),
-                       rules=rules)
+                       rules=rules, raw=raw)
     result.seconds["watch"] = time.perf_counter() - clock
-    failures: dict[str, str] = {}
+    failures = result.phases
     after = result.recognition["repair"]
     if not after["exact"]:
         # what was learned is not what was shown: the task failed (design.md exit codes)

@@ -164,14 +164,24 @@ def test_cameras_against_ground_truth_is_its_own_column():
     assert header.split()[14] == "cams=gt" and row.split()[13] == "75%"
 
 
-def test_bench_scores_an_object_misread_as_another_as_a_recognition_failure():
-    """Bench seed 2033 (nominal, rearrange): the operations are the demonstrated ones, but
-    on a 'cube1' the teach workspace does not hold (the finder misread a stack). `lbw run`
-    calls that a recognition failure; the bench executed the plan anyway and crashed on
-    the plan/scenario mismatch (InputError). It now scores it as `lbw run` does."""
-    from lbw_engine.cli.bench import run_one
+FIRST_FAILURE = [
+    # (phases that failed in lbw_engine.pipeline.run, foreign object, the record's failure)
+    pytest.param({}, None, None, id="none"),
+    pytest.param({"recognition": "at #3: missing PICK"}, None, None, id="sequence-only"),
+    pytest.param({"recognition": "at #3", "verification": "off by 9 mm"}, None,
+                 "verification: off by 9 mm", id="after-a-sequence-difference"),
+    pytest.param({"analysis": "no template", "instantiation": "x"}, None,
+                 "analysis: no template", id="first-phase"),
+    # bench seed 2033 at 6742d23: the demonstrated operations on a 'cube1' the teach
+    # workspace does not hold; lbw run calls it a recognition failure, so does the bench
+    pytest.param({"instantiation": "no cube1"}, "the object 'cube1' is not there", "recognition: "
+                 "the object 'cube1' is not there", id="foreign-object"),
+]
 
-    rec = run_one((2033, "nominal", "rearrange", None))
-    assert "error" not in rec, rec.get("traceback")
-    assert rec["failure"].startswith("recognition: ") and "cube1" in rec["failure"]
-    assert rec["execution_success"] is False
+
+@pytest.mark.parametrize("phases,foreign,want", FIRST_FAILURE)
+def test_a_bench_record_names_the_first_phase_after_recognition_that_failed(phases, foreign,
+                                                                            want):
+    from lbw_engine.cli.bench import first_failure
+
+    assert first_failure(phases, foreign) == want
