@@ -163,7 +163,8 @@ def test_two_three_block_stacks_and_a_disc():
     truth = [("disc", block(46, 70, shapes["disc"]))]
     for at in ((-23, 313), (212, 207)):
         truth += [("block", block(*at, shapes["block"])),
-                  ("cube", block(*at, shapes["cube"], 50)), ("tile", block(*at, shapes["tile"], 90))]
+                  ("cube", block(*at, shapes["cube"], 50)),
+                  ("tile", block(*at, shapes["tile"], 90))]
     found = ObjectFinder(CAMS, VisionResources()).find(
         Film(noise=2.0, seed=2033).shoot([b for _, b in truth]), shapes)
     assert sorted(f.shape for f in found) == sorted(s for s, _ in truth)
