@@ -142,3 +142,28 @@ def test_an_uncovered_top_is_measured_where_it_lies(dx, dy):
     boxes, named, _ = explain(cams, images, found, {**legs, "top": ("plate", goal, PLATE)})
     got = boxes[named["top"]].position
     assert math.dist(got[:2], where[:2]) <= 2.0, got
+
+
+PILLAR = (15.0, 15.0, 112.0)
+
+
+def test_a_misread_pillar_behind_which_another_stands_is_still_seen():
+    """Bench seed 1015 (nominal, pillars): two 15 mm pillars 44 mm apart in y, one behind
+    the other on the side camera's line of sight. The finder paired the front pillar's
+    face with a height 74 mm too high, so its reading was put 13 mm off in x and split
+    into a stack; neither piece was within the pillar's footprint, so the expected pose
+    was refused and the pillar reported gone. A reading made of the block's pixels in the
+    top view, and the column under it, are its pieces."""
+    pillars = {"p1": ("pillar", (236.8, 290.0, 56.0), PILLAR),
+               "p2": ("pillar", (231.8, 334.0, 56.0), PILLAR)}
+    crate = ("crate", (183.0, 183.0, 20.0), (80.0, 60.0, 40.0))
+    cams, images = _views({"p1": ("pillar", (236.9, 289.2, 56.0), PILLAR),
+                           "p2": ("pillar", (232.7, 333.3, 56.0), PILLAR), "crate": crate})
+    found = [FoundObject("pillar", (231.8, 333.9, 56.1), (14.4, 14.4, 112.1), 1.3),
+             FoundObject("pillar", (221.9, 284.1, 37.0), (9.6, 15.0, 74.0), 43.4),
+             FoundObject("pillar", (223.9, 284.1, 130.0), (13.6, 16.3, 112.0), 43.4),
+             FoundObject("crate", (182.5, 183.3, 19.5), (79.1, 57.8, 39.0), 4.1)]
+    boxes, named, _ = explain(cams, images, found, pillars, {"pillar": 2, "crate": 1})
+    assert sorted(named) == ["p1", "p2"]
+    assert math.dist(boxes[named["p1"]].position[:2], (236.9, 289.2)) <= 2.0
+    assert len(boxes) == 3  # the misread pieces are gone
