@@ -145,10 +145,10 @@ class ObjectFinder(VFD):
         cx, cy = obj.position[:2]
         best = None
         for top_name, (tx, ty, tz) in shapes.items():
-            if abs(tx - sx) + abs(ty - sy) > STACK_MISMATCH_MM and not _inside_thin_ring(
-                    (tx, ty), (sx, sy)):
-                continue
-            tx, ty = (tx, ty) if abs(tx - sx) + abs(ty - sy) > STACK_MISMATCH_MM else (sx, sy)
+            if abs(tx - sx) + abs(ty - sy) <= STACK_MISMATCH_MM:
+                tx, ty = sx, sy  # the measured face is the upper block's own
+            elif not _inside_thin_ring((tx, ty), (sx, sy)):
+                continue  # else the face is the outline of thin rings around it
             rest = sz - tz
             seam = base + rest
             if rest < 5.0 or not self._crease_at(cam, side, (cx, front, seam)):
