@@ -15,7 +15,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 from lbw_engine.do.fine import Alignment, coplanar_errors
-from lbw_engine.model.geometry import Vec, support_relations, tilted
+from lbw_engine.model.geometry import Vec, support_relations, tilt, tilted
 
 POSITION_TOLERANCE_MM = 5.0
 TOPPLE_RAD = 0.2  # ~11°: a block tilted more than this has fallen over
@@ -80,9 +80,9 @@ def verify(
                                   f"'{name}' was not found in the final state"))
             continue
         positions[name] = [round(c, 1) for c in state.position]
-        if abs(state.angle) > topple_rad:
+        if tilt(state.angle, state.size) > topple_rad:
             mismatches.append(_mm("toppled", name, 0.0, round(state.angle, 3),
-                                  f"'{name}' is tilted by {abs(state.angle):.2f} rad"))
+                                  f"'{name}' is tilted by {tilt(state.angle, state.size):.2f} rad"))
         got = supports.get(name)
         if got is not None:
             relations.append([got[0], name, list(got[1]) if len(got[1]) > 1 else got[1][0]])

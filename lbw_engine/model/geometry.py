@@ -46,6 +46,17 @@ def tilted(c: Vec, s: Vec, angle: float) -> Box:
     return c, (s[0] * ca + s[2] * sa, s[1], s[0] * sa + s[2] * ca)
 
 
+def tilt(angle: float, s: Vec, square_mm: float = 1.0) -> float:
+    """How far (rad) a box turned by ``angle`` in the x-z plane is from looking upright.
+    Turned by pi it fills its upright box again; with a square x-z section (within
+    ``square_mm``) so it does turned by pi/2: a cube that rolled onto another face stands
+    (fault bench seed 5006: a displaced cube rolled a quarter turn onto its plank, and
+    the simulator's check called the finished structure toppled)."""
+    period = math.pi / 2.0 if abs(s[0] - s[2]) <= square_mm else math.pi
+    a = math.fmod(abs(angle), period)
+    return min(a, period - a)
+
+
 def top(c: Vec, s: Vec) -> float:
     """z of a box's top face."""
     return c[2] + s[2] / 2

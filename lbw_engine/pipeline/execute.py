@@ -26,6 +26,7 @@ from lbw_engine.do.tracing import Trace, trace
 from lbw_engine.do.verification import TOPPLE_RAD, ObjectState, verify
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import Body, EnvModel
+from lbw_engine.model.geometry import tilt
 from lbw_engine.outputs import OutputDir
 from lbw_engine.pipeline.monitor import (
     Eyes,
@@ -168,7 +169,7 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
 
 def _toppled(world: Any) -> list[str]:
     """World blocks lying tilted (ground truth, evaluation only: the bench's scoring)."""
-    return sorted(n for n, a in world.angles().items() if abs(a) > TOPPLE_RAD)
+    return sorted(n for n, a in world.angles().items() if tilt(a, world.sizes[n]) > TOPPLE_RAD)
 
 
 def _steps(injector: Any, watch: Any, on_step: Callable[[Any], None] | None

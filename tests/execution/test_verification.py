@@ -39,6 +39,9 @@ CASES = [
     ("Fig18-plate-on-table", built(plate1=ObjectState((150.0, 300.0, 5.0), PLATE)), False,
      [("relation", "plate1"), ("position", "plate1")]),
     ("Fig18-plate-missing", built(plate1=None), False, [("missing", "plate1")]),
+    # upside down a block fills its upright box again: it stands
+    ("Fig18-leg-upside-down", built(brick2=ObjectState((-70.0, 215.0, 25.0), BRICK, 3.14159)),
+     True, []),
     ("Fig18-leg-on-a-stray-block",
      {**built(brick1=ObjectState((-70.0, 145.0, 45.0), BRICK),
               plate1=ObjectState((-25.0, 180.0, 55.0), PLATE)),
@@ -96,3 +99,31 @@ def test_a_small_cube_across_a_gap_rests_on_both(axis, gap, off, both):
     v = verify(expected, supports, measured, TYPES)
     assert v.success is both, v.mismatches
     assert [m["kind"] for m in v.mismatches] == ([] if both else ["relation"])
+
+
+# (turned by, x-z section): a box looks upright again turned by pi, a square section also
+# by pi/2 (fault bench seed 5006: a cube rolled a quarter turn and was called toppled)
+TILTS = [
+    pytest.param(0.0, (40.0, 40.0, 40.0), 0.0, id="upright"),
+    pytest.param(1.5708, (40.0, 40.0, 40.0), 0.0, id="cube-quarter-turn"),
+    pytest.param(-1.5708, (40.0, 40.0, 40.0), 0.0, id="cube-quarter-turn-back"),
+    pytest.param(1.5708, (30.0, 30.0, 50.0), 1.5708, id="brick-on-its-side"),
+    pytest.param(3.1416, (30.0, 30.0, 50.0), 0.0, id="brick-upside-down"),
+    pytest.param(0.5, (40.0, 40.0, 40.0), 0.5, id="cube-leaning"),
+    pytest.param(1.3, (40.0, 40.0, 40.0), 0.2708, id="cube-leaning-the-other-way"),
+    pytest.param(4.7124, (40.0, 40.0, 40.0), 0.0, id="cube-three-quarter-turns"),
+]
+
+
+@pytest.mark.parametrize("angle,size,want", TILTS)
+def test_how_far_a_turned_box_is_from_looking_upright(angle, size, want):
+    from lbw_engine.model.geometry import tilt
+
+    assert tilt(angle, size) == pytest.approx(want, abs=1e-3)
+
+
+def test_a_cube_rolled_a_quarter_turn_onto_its_support_stands():
+    cube = (40.0, 40.0, 40.0)
+    v = verify({"c": (0.0, 200.0, 20.0)}, {"c": ("on", ("table",))},
+               {"c": ObjectState((0.0, 200.0, 20.0), cube, 1.5708)}, TYPES)
+    assert v.success, v.mismatches
