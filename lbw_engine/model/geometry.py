@@ -47,7 +47,7 @@ def tilted(c: Vec, s: Vec, angle: float) -> Box:
 
 
 def tilt(angle: float, s: Vec, square_mm: float = 1.0) -> float:
-    """How far (rad) a box turned by ``angle`` in the x-z plane is from looking upright.
+    """How much (rad) a box turned by ``angle`` in the x-z plane is off looking upright.
     Turned by pi it fills its upright box again; with a square x-z section (within
     ``square_mm``) so it does turned by pi/2: a cube that rolled onto another face stands
     (fault bench seed 5006: a displaced cube rolled a quarter turn onto its plank, and

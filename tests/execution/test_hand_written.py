@@ -8,7 +8,7 @@ across them, narrower than the cubes. Two faults showed on it:
   REACH and a NO-OP (perception/vision/envnodes/hand.py CONVERGE_FRAMES);
 - verification through the cameras: the slab's top, cut in two by the cubes'
   edges, was read as two columns, so the finished structure was not explained
-  and the slab was reported gone (objects_posed._top_seen).
+  and the slab was reported gone (objects_faces._top_seen).
 """
 
 from __future__ import annotations

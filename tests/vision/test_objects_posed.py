@@ -192,7 +192,7 @@ def test_a_top_within_the_face_noise_keeps_its_expected_pose():
     """Bench seed 1010 at 2x: two aligned faces, each measured about a millimetre off,
     came out 2.1 mm apart and failed a 2 mm coplanarity the simulator passed. A measured
     face moves a pose only past FACE_NOISE_MM."""
-    from perception.vision.vfd.objects_posed import FACE_NOISE_MM
+    from perception.vision.vfd.objects_faces import FACE_NOISE_MM
 
     legs = {f"leg{i}": ("brick", (x, y, 25.0), LEG)
             for i, (x, y) in enumerate([(-88, 254), (-86, 323), (-6, 324), (-13, 254)])}

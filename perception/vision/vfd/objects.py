@@ -27,9 +27,6 @@ TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
 MIN_FACE_PX = 6
 STACK_MISMATCH_MM = 8.0  # a column this far from every shape may be a stack of two
-RING_HIDDEN_MM = 6.0  # a top-face ring this thin (2 px from above) merges into its outline
-CREASE_MAX = 110  # crease lines are drawn at 60, faces at 170 and brighter
-FRONT_BAND = (150, 190)  # faces facing -y (the side camera) are drawn at 170
 MIN_SCORE = 0.25  # correspondence score (IoU x solid fraction) taken as a match
 CANDIDATES = 3  # side top faces refined per top-view face
 
@@ -114,7 +111,7 @@ class ObjectFinder(VFD):
             stack = self._hidden_stack(single, base, y0, side_img, shapes, rings.get(k),
                                        boxes[k][2])
             found.extend(stack or [single])
-        found = _consistent(found, shapes)
+        found = rims.consistent(found, shapes, STACK_MISMATCH_MM)
         self._found = bool(found)
         self._target = np.array([f.position for f in found]) if found else None
         return found
@@ -147,11 +144,11 @@ class ObjectFinder(VFD):
         for top_name, (tx, ty, tz) in shapes.items():
             if abs(tx - sx) + abs(ty - sy) <= STACK_MISMATCH_MM:
                 tx, ty = sx, sy  # the measured face is the upper block's own
-            elif not _inside_thin_ring((tx, ty), (sx, sy)):
+            elif not rims.inside_thin_ring((tx, ty), (sx, sy)):
                 continue  # else the face is the outline of thin rings around it
             rest = sz - tz
             seam = base + rest
-            if rest < 5.0 or not self._crease_at(cam, side, (cx, front, seam)):
+            if rest < 5.0 or not rims.crease_at(cam, side, (cx, front, seam)):
                 continue
             if ring is not None:  # the lower block's outline is the ring's, or shows in it
                 done = rims.complete_rim(self.footprint(ring, seam), rims.cover_of(
@@ -161,7 +158,7 @@ class ObjectFinder(VFD):
                 low_name, low_at, low_xy, low_err = done
                 low_size = np.array([*low_xy, rest])
             else:
-                run = self._width_at(cam, side, (cx, front, base + rest / 2.0))
+                run = rims.width_at(cam, side, (cx, front, base + rest / 2.0))
                 if run is None:
                     continue
                 width, mid = run
@@ -169,7 +166,7 @@ class ObjectFinder(VFD):
                 c0, d0, c1, d1 = rims.cover_of(obj, self.footprint(face, seam))
                 fits = {n: abs(lx - width) + abs(lz - rest)
                         for n, (lx, ly, lz) in shapes.items()
-                        if _inside_thin_ring((max(sx, c1 - c0), max(sy, d1 - d0)), (lx, ly))
+                        if rims.inside_thin_ring((max(sx, c1 - c0), max(sy, d1 - d0)), (lx, ly))
                         or (lx <= max(sx, c1 - c0) + 8.0 and ly <= max(sy, d1 - d0) + 8.0)}
                 if not fits:
                     continue
@@ -193,32 +190,6 @@ class ObjectFinder(VFD):
             replace(low, mismatch=low_fit), base, front, side, shapes, None,
             face if ring is None else ring)
         return [*(deeper or [low]), top]
-
-    @staticmethod
-    def _crease_at(cam, side: np.ndarray, point) -> bool:
-        """Whether the side view has a crease line (a seam) at ``point``, within a pixel."""
-        u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
-        column = side[max(0, v - 1):v + 2, u]
-        return bool(((column > DARK_MAX) & (column <= CREASE_MAX)).any())
-
-    @staticmethod
-    def _width_at(cam, side: np.ndarray, point) -> tuple[float, float] | None:
-        """Width and centre x (mm) of the front face (-y, drawn at 170) through ``point``,
-        on y = point.
-
-        Its edges run through the crease pixels that bound the run of face pixels."""
-        u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
-        row = (side[v] >= FRONT_BAND[0]) & (side[v] <= FRONT_BAND[1])
-        if not row[u]:
-            return None
-        left, right = u, u
-        while left > 0 and row[left - 1]:
-            left -= 1
-        while right + 1 < len(row) and row[right + 1]:
-            right += 1
-        ends = [cam.point_on_plane((x, float(v)), 1, point[1])[0]
-                for x in (left - 1.0, right + 1.0)]
-        return float(ends[1] - ends[0]), float(ends[0] + ends[1]) / 2.0
 
     def smallest_face_px(self, shapes: Mapping[str, Sequence[float]]) -> float:
         """Side (px) of the smallest top face the database allows, on the table in the top
@@ -411,47 +382,3 @@ class ObjectFinder(VFD):
         return float(solid[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][inside].sum()) / n \
             if n else 0.0
 
-
-def _inside_thin_ring(top: Sequence[float], outline: Sequence[float]) -> bool:
-    """Whether a block of footprint ``top`` can stand centred on a face the top view
-    measured as ``outline`` with only a ring thinner than RING_HIDDEN_MM around it: the
-    ring's creases leave no face pixel between them, so the measured outline is the
-    lower block's (a cube on a block under a tile: three blocks, one face)."""
-    return all(0.0 <= o - t <= 2.0 * RING_HIDDEN_MM for t, o in zip(top, outline, strict=False))
-
-
-def _consistent(found: list[FoundObject], shapes: Mapping[str, Sequence[float]]
-                ) -> list[FoundObject]:
-    """Drop readings that fit no shape and overlap the footprint of a lower block found
-    under a stack: pieces of that block's thin ring (3 px here, 2 there, at pixel noise)
-    read as columns of their own, their heights and so their footprints wrong."""
-    def over(f: FoundObject, g: FoundObject) -> bool:  # footprints meet, or nearly
-        return all(abs(f.position[k] - g.position[k]) < (f.size[k] + g.size[k]) / 2.0
-                   + RING_HIDDEN_MM for k in (0, 1))
-
-    def fits(f: FoundObject) -> bool:
-        return nearest(shapes, np.array(f.size))[1] < STACK_MISMATCH_MM
-
-    kept = [f for f in found if fits(f) or not any(
-        g is not f and fits(g) and g.position[2] < f.position[2] and over(f, g) and any(
-            h is not g and h is not f and h.position[2] > g.position[2] and over(h, g)
-            for h in found)
-        for g in found)]
-    # Two faces of one stack (a ring piece beside the top face, near the camera's axis)
-    # can each be read as the whole stack: readings that fill the same space are one
-    # block read twice; the one nearer a shape stays.
-    out: list[FoundObject] = []
-    for f in sorted(kept, key=lambda f: nearest(shapes, np.array(f.size))[1]):
-        if not any(_shared(f, g) > 0.5 for g in out):
-            out.append(f)
-    return [f for f in found if f in out]
-
-
-def _shared(a: FoundObject, b: FoundObject) -> float:
-    """The volume two readings' boxes share, as a share of the smaller box."""
-    common = 1.0
-    for k in range(3):
-        lo = max(a.position[k] - a.size[k] / 2.0, b.position[k] - b.size[k] / 2.0)
-        hi = min(a.position[k] + a.size[k] / 2.0, b.position[k] + b.size[k] / 2.0)
-        common *= max(0.0, hi - lo)
-    return common / max(1e-9, min(float(np.prod(a.size)), float(np.prod(b.size))))

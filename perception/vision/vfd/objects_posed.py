@@ -21,9 +21,7 @@ that is not there adds its whole silhouette to the wrong pixels and is refused.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import replace
 
 import cv2
 import networkx as nx
@@ -32,16 +30,10 @@ import numpy as np
 from perception.vision.camera import Camera
 from perception.vision.vfd.base import DARK_MAX
 from perception.vision.vfd.objects import FoundObject, ObjectFinder
+from perception.vision.vfd.objects_faces import measure_tops, tops_seen
+from perception.vision.vfd.objects_pieces import box_rect, pieces_of, reading_of, with_columns_under
 from perception.vision.vfd.resources import VisionResources
 
-GATE_MM = 15.0  # a top face this near an expected block's (in x, y) may be that block
-# A top face's measured centre moves a pose only when it differs by more than this: about
-# a top-view pixel; over 318 looks, face centres were 1.0 mm off on average (p95 1.8 mm).
-# Closer, the measurement cannot tell, and two aligned faces measured apart by noise would
-# fail a 2 mm coplanarity the simulator passes (bench seed 1010 at 2x: 2.1 mm).
-FACE_NOISE_MM = 2.5
-SIZE_MM = 8.0  # and its footprint this near the block's shape
-TOP_MM = 6.0  # an uncovered block's top face measured this near its expected x, y
 OUTLINE_SHARE = 0.05  # wrong pixels off the outline bands near posed blocks, per outline px
 PASSES = 3  # passes over the expected blocks
 WORSE_PX = 12  # more wrong pixels than this is evidence against a pose (edges, noise)
@@ -157,7 +149,7 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
         _drop_unseen(boxes, named, cost)
     if most:
         _too_many(boxes, named, added, most, cost)
-    _measure_tops(boxes, named, check)
+    measure_tops(boxes, named, check)
     keep = [i for i, b in enumerate(boxes) if b is not None]
     index = {i: k for k, i in enumerate(keep)}
     return [boxes[i] for i in keep], {n: index[i] for n, i in named.items()}, added
@@ -178,7 +170,7 @@ def _structures(expected: Mapping[str, Expected], cameras: Mapping[str, Camera]
     """Expected blocks grouped by what the views can tell apart: blocks whose images
     overlap in either camera (one rests on, or hides, the other), transitively."""
     names = sorted(expected)
-    rects = {n: [_rect(cam, expected[n][1], expected[n][2]) for cam in cameras.values()]
+    rects = {n: [box_rect(cam, expected[n][1], expected[n][2]) for cam in cameras.values()]
              for n in names}
     return _components(names, lambda a, b: any(
         min(ra[2], rb[2]) > max(ra[0], rb[0]) and min(ra[3], rb[3]) > max(ra[1], rb[1])
@@ -205,36 +197,27 @@ def _components(names: Sequence[str], joined: Callable[[str, str], bool]) -> lis
     return [sorted(part) for part in nx.connected_components(graph)]
 
 
-def _rect(cam: Camera, center: Sequence[float], size: Sequence[float]
-          ) -> tuple[float, float, float, float]:
-    """The image rectangle (u0, v0, u1, v1) around a box's projection."""
-    corners = np.array([[center[k] + s * size[k] / 2.0 for k, s in enumerate((a, b, c))]
-                        for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)])
-    uv = cam.project(corners)
-    return (*uv.min(axis=0), *uv.max(axis=0))
-
-
 def _replace_structure(boxes: list, named: dict[str, int], group: list[str],
                        expected: Mapping[str, Expected], check: Silhouettes) -> bool:
     """A whole structure at its expected pose, its uncovered blocks where the top view
     shows their faces, in place of what the finder made of it (a column, rings, swapped
     heights), where the views agree with it near its silhouettes nearly exactly (a
     hidden block that moved shows only there)."""
-    parts = sorted({i for n in group for i in _pieces(boxes, [
+    parts = sorted({i for n in group for i in pieces_of(boxes, [
         i for i, b in enumerate(boxes) if b is not None and i not in named.values()],
         expected[n][1], expected[n][2], any_size=True, any_height=True,
         top_cam=check.cameras["top"])})
-    parts = _with_columns_under(boxes, parts, named)
+    parts = with_columns_under(boxes, parts, named)
     was = {i: boxes[i] for i in parts}
     # Its uncovered blocks go where the top view shows their faces (a beam dropped 16 mm
     # off its goal onto its pillars, fault bench seed 5009: at its goal the structure did
     # not fit, and the pillars under it were reported gone).
     trial = [FoundObject(expected[n][0], tuple(map(float, expected[n][1])),
                          tuple(map(float, expected[n][2])), 0.0) for n in group]
-    _measure_tops(trial, {n: k for k, n in enumerate(group)}, check)
+    measure_tops(trial, {n: k for k, n in enumerate(group)}, check)
     posed = {n: (expected[n][0], trial[k].position, expected[n][2])
              for k, n in enumerate(group)}
-    if not _tops_seen(group, posed, list(was.values()), check):
+    if not tops_seen(group, posed, list(was.values()), check):
         return False
     for i in parts:
         boxes[i] = None
@@ -250,84 +233,6 @@ def _replace_structure(boxes: list, named: dict[str, int], group: list[str],
     return False
 
 
-def _tops_seen(group: list[str], expected: Mapping[str, Expected],
-               found: list[FoundObject], check: Silhouettes) -> bool:
-    """Every block of the group with nothing of the group above it shows its whole top
-    face: the finder measured it there (its x, y are sharp, within TOP_MM), or the top
-    view shows a top face of its footprint there at its height (``_face_seen``)."""
-    for n in group:
-        c, size = expected[n][1], expected[n][2]
-        covered = any(m != n and expected[m][1][2] > c[2] and all(
-            abs(expected[m][1][k] - c[k]) < (expected[m][2][k] + size[k]) / 2.0 for k in (0, 1))
-            for m in group)
-        if not covered and not _top_seen(c, size, found) and not _face_seen(c, size, check):
-            return False
-    return True
-
-
-def _face_seen(c: Sequence[float], size: Sequence[float], check: Silhouettes) -> bool:
-    """A top face of the top view, put at this block's top height, has its footprint and
-    lies where its top is (within TOP_MM). The finder's reading can miss it when it pairs
-    faces with side-view heights wrongly (a brick on a disc at 4x pixel noise: the disc's
-    visible ring was taken for the brick, 9 mm off); the face itself is plain to see."""
-    return _face_at(c, size, check, TOP_MM) is not None
-
-
-def _face_at(c: Sequence[float], size: Sequence[float], check: Silhouettes, gate: float
-             ) -> tuple[float, float] | None:
-    """The x, y centre of the nearest top face of the top view that, put at this block's
-    top height, has its footprint and lies within ``gate`` of its x, y; None if none."""
-    top = c[2] + size[2] / 2.0
-    best, near = None, gate
-    for rect in check.faces:
-        x0, y0, x1, y1 = check.finder.footprint(rect, top)
-        x, y = (x0 + x1) / 2.0, (y0 + y1) / 2.0
-        off = max(abs(x - c[0]), abs(y - c[1]))
-        if off <= near and abs(x1 - x0 - size[0]) + abs(y1 - y0 - size[1]) <= SIZE_MM:
-            best, near = (x, y), off
-    return best
-
-
-def _measure_tops(boxes: list, named: dict[str, int], check: Silhouettes) -> None:
-    """Named blocks with nothing on them take the x, y of their top face as the top view
-    measures it (at their height), not the expected pose that explained the views: the
-    silhouette test forgives a few mm (a pixel is about 2.5 mm, and the bands along the
-    outlines are not counted), so a top dropped 5 mm off its goal passed as on it.
-    A face is looked for within half the block's narrower side of its expected x, y (a
-    12 mm cube's neighbour of its shape is nearer than 15 mm); it must be nearer to
-    this block than to any other uncovered one."""
-    shown = [boxes[i] for i in named.values()]
-    uncovered = [b for b in shown if not any(
-        o is not b and o.position[2] > b.position[2] and all(
-            abs(o.position[k] - b.position[k]) < (o.size[k] + b.size[k]) / 2.0 for k in (0, 1))
-        for o in shown)]
-    moved = {}
-    for b in uncovered:
-        xy = _face_at(b.position, b.size, check, min(b.size[:2]) / 2.0)
-        mine = xy is not None and min(uncovered, key=lambda o: math.dist(
-            o.position[:2], xy)) is b
-        if mine and max(abs(xy[0] - b.position[0]), abs(xy[1] - b.position[1])) > FACE_NOISE_MM:
-            moved[id(b)] = replace(b, position=(xy[0], xy[1], b.position[2]))
-    for i in named.values():
-        boxes[i] = moved.get(id(boxes[i]), boxes[i])
-
-
-def _top_seen(c: Sequence[float], size: Sequence[float], found: list[FoundObject]) -> bool:
-    """The finder measured this top face: one reading centred on it (within TOP_MM), or
-    readings at its height that together span its footprint. A top over a gap between
-    two supports is cut in two by the supports' edges and read as two columns."""
-    if any(abs(f.position[0] - c[0]) <= TOP_MM and abs(f.position[1] - c[1]) <= TOP_MM
-           for f in found):
-        return True
-    top = c[2] + size[2] / 2.0
-    parts = [f for f in found if abs(f.position[2] + f.size[2] / 2.0 - top) <= SIZE_MM
-             and all(abs(f.position[k] - c[k]) < (f.size[k] + size[k]) / 2.0 for k in (0, 1))]
-    return len(parts) > 1 and all(
-        min(f.position[k] - f.size[k] / 2.0 for f in parts) <= c[k] - size[k] / 2.0 + TOP_MM
-        and max(f.position[k] + f.size[k] / 2.0 for f in parts) >= c[k] + size[k] / 2.0 - TOP_MM
-        for k in (0, 1))
-
-
 def _add_hidden(boxes: list, named: dict[str, int], added: list[str],
                 expected: Mapping[str, Expected], cost: Callable[[], int]) -> None:
     """Expected blocks the finder saw nothing of, where adding them leaves the views as
@@ -335,7 +240,7 @@ def _add_hidden(boxes: list, named: dict[str, int], added: list[str],
     base = cost()
     for name, (shape, center, size) in sorted(expected.items()):
         free = [i for i, b in enumerate(boxes) if b is not None and i not in named.values()]
-        if name in named or _pieces(boxes, free, center, size, any_size=True):
+        if name in named or pieces_of(boxes, free, center, size, any_size=True):
             continue  # the finder saw something there that is not this block
         boxes.append(FoundObject(shape, tuple(map(float, center)), tuple(map(float, size)), 0.0))
         trial = cost()
@@ -402,7 +307,7 @@ def _replace(boxes: list, named: dict[str, int], expected: Mapping[str, Expected
             continue
         posed = FoundObject(shape, tuple(map(float, center)), tuple(map(float, size)), 0.0)
         free = [i for i, b in enumerate(boxes) if b is not None and i not in named.values()]
-        for parts in (_reading(boxes, free, center, size), _pieces(boxes, free, center, size)):
+        for parts in (reading_of(boxes, free, center, size), pieces_of(boxes, free, center, size)):
             if not parts:
                 continue
             was = {i: boxes[i] for i in parts}
@@ -417,56 +322,3 @@ def _replace(boxes: list, named: dict[str, int], expected: Mapping[str, Expected
                 boxes[i] = b
 
 
-def _reading(boxes: list, free: list[int], center: Sequence[float],
-             size: Sequence[float]) -> list[int]:
-    """The one found block whose top face is where this block's would be."""
-    return [i for i in free
-            if abs(boxes[i].position[0] - center[0]) <= GATE_MM
-            and abs(boxes[i].position[1] - center[1]) <= GATE_MM
-            and abs(boxes[i].size[0] - size[0]) + abs(boxes[i].size[1] - size[1]) <= SIZE_MM][:1]
-
-
-def _pieces(boxes: list, free: list[int], center: Sequence[float], size: Sequence[float],
-            any_size: bool = False, any_height: bool = False, top_cam: Camera | None = None
-            ) -> list[int]:
-    """Found blocks within this block's footprint, no larger and not above it: its pieces.
-    With ``top_cam``, also any reading made of this block's pixels in the top view (its
-    box's image mostly on this one's): a face paired with a wrong height is put
-    elsewhere in x, y (a 15 mm pillar with another behind it on the side camera's line of
-    sight was read 13 mm off and 74 mm too tall, bench seed 1015)."""
-    top = center[2] + size[2] / 2.0
-    return [i for i in free
-            if (all(abs(boxes[i].position[k] - center[k]) <= size[k] / 2.0 for k in (0, 1))
-                or (top_cam is not None and _same_pixels(top_cam, boxes[i], center, size)))
-            and (any_height or boxes[i].position[2] - boxes[i].size[2] / 2.0 < top - SIZE_MM)
-            and (any_size or all(boxes[i].size[k] <= size[k] + SIZE_MM for k in (0, 1)))]
-
-
-def _with_columns_under(boxes: list, parts: list[int], named: dict[str, int]) -> list[int]:
-    """``parts`` and the free readings each stands on (its footprint over theirs, its
-    bottom at their top within SIZE_MM), transitively: the finder split the column under
-    a misread face into a stack, and its lower piece is that face's reading too."""
-    out, grew = list(parts), True
-    while grew:
-        grew = False
-        for i, b in enumerate(boxes):
-            if b is None or i in out or i in named.values():
-                continue
-            top = b.position[2] + b.size[2] / 2.0
-            if any(abs(boxes[j].position[2] - boxes[j].size[2] / 2.0 - top) <= SIZE_MM and all(
-                    abs(boxes[j].position[k] - b.position[k]) < (boxes[j].size[k] + b.size[k]) / 2.0
-                    for k in (0, 1)) for j in out):
-                out.append(i)
-                grew = True
-    return sorted(out)
-
-
-def _same_pixels(cam: Camera, found: FoundObject, center: Sequence[float],
-                 size: Sequence[float]) -> bool:
-    """Whether a reading's box, in the top view, lies mostly (over half of the smaller
-    image rectangle) on this block's: the reading was made of this block's pixels."""
-    a, b = _rect(cam, found.position, found.size), _rect(cam, center, size)
-    common = max(0.0, min(a[2], b[2]) - max(a[0], b[0])) * \
-        max(0.0, min(a[3], b[3]) - max(a[1], b[1]))
-    smaller = min((a[2] - a[0]) * (a[3] - a[1]), (b[2] - b[0]) * (b[3] - b[1]))
-    return smaller > 0 and common > 0.5 * smaller

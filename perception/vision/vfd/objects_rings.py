@@ -11,15 +11,27 @@ The rim still gives the lower block's height and every edge it shows. An edge
 is shown on the sides where the rim reaches beyond what the upper block covers
 (its footprint, and its top face seen down to the rim's height); on the other
 sides the database shape decides, within the room the cover leaves.
+
+Stacks whose rings are too thin to show at all (three blocks, 5 mm rings) are
+read from the side view: a crease at the seam (``crease_at``) and the front
+face's width below it (``width_at``), ObjectFinder._hidden_stack. ``consistent``
+drops what such stacks leave behind: ring slivers read as columns, and one
+stack read twice.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
-from perception.vision.vfd.objects_match import frames
+from perception.vision.vfd.base import DARK_MAX
+from perception.vision.vfd.objects_match import frames, nearest
+
+RING_HIDDEN_MM = 6.0  # a top-face ring this thin (2 px from above) merges into its outline
+CREASE_MAX = 110  # crease lines are drawn at 60, faces at 170 and brighter
+FRONT_BAND = (150, 190)  # faces facing -y (the side camera) are drawn at 170
 
 Box = tuple[float, tuple[float, float, float, float], tuple]  # (height, footprint, pixel rect)
 
@@ -179,3 +191,72 @@ def within(rect: Sequence[float], outer: Sequence[float]) -> bool:
     """Whether pixel rectangle ``rect`` lies inside ``outer`` (a rim piece in its rim)."""
     return outer[0] <= rect[0] and outer[1] <= rect[1] and rect[2] <= outer[2] \
         and rect[3] <= outer[3]
+
+
+def inside_thin_ring(top: Sequence[float], outline: Sequence[float]) -> bool:
+    """Whether a block of footprint ``top`` can stand centred on a face the top view
+    measured as ``outline`` with only a ring thinner than RING_HIDDEN_MM around it: the
+    ring's creases leave no face pixel between them, so the measured outline is the
+    lower block's (a cube on a block under a tile: three blocks, one face)."""
+    return all(0.0 <= o - t <= 2.0 * RING_HIDDEN_MM for t, o in zip(top, outline, strict=False))
+
+
+def consistent(found: list, shapes: Mapping[str, Sequence[float]], fits_mm: float) -> list:
+    """Drop readings that fit no shape and overlap the footprint of a lower block found
+    under a stack: pieces of that block's thin ring (3 px here, 2 there, at pixel noise)
+    read as columns of their own, their heights and so their footprints wrong."""
+    def over(f: Any, g: Any) -> bool:  # footprints meet, or nearly
+        return all(abs(f.position[k] - g.position[k]) < (f.size[k] + g.size[k]) / 2.0
+                   + RING_HIDDEN_MM for k in (0, 1))
+
+    def fits(f: Any) -> bool:
+        return nearest(shapes, np.array(f.size))[1] < fits_mm
+
+    kept = [f for f in found if fits(f) or not any(
+        g is not f and fits(g) and g.position[2] < f.position[2] and over(f, g) and any(
+            h is not g and h is not f and h.position[2] > g.position[2] and over(h, g)
+            for h in found)
+        for g in found)]
+    # Two faces of one stack (a ring piece beside the top face, near the camera's axis)
+    # can each be read as the whole stack: readings that fill the same space are one
+    # block read twice; the one nearer a shape stays.
+    out: list = []
+    for f in sorted(kept, key=lambda f: nearest(shapes, np.array(f.size))[1]):
+        if not any(_shared(f, g) > 0.5 for g in out):
+            out.append(f)
+    return [f for f in found if f in out]
+
+
+def _shared(a: Any, b: Any) -> float:
+    """The volume two readings' boxes share, as a share of the smaller box."""
+    common = 1.0
+    for k in range(3):
+        lo = max(a.position[k] - a.size[k] / 2.0, b.position[k] - b.size[k] / 2.0)
+        hi = min(a.position[k] + a.size[k] / 2.0, b.position[k] + b.size[k] / 2.0)
+        common *= max(0.0, hi - lo)
+    return common / max(1e-9, min(float(np.prod(a.size)), float(np.prod(b.size))))
+
+
+def crease_at(cam, side: np.ndarray, point) -> bool:
+    """Whether the side view has a crease line (a seam) at ``point``, within a pixel."""
+    u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
+    column = side[max(0, v - 1):v + 2, u]
+    return bool(((column > DARK_MAX) & (column <= CREASE_MAX)).any())
+
+def width_at(cam, side: np.ndarray, point) -> tuple[float, float] | None:
+    """Width and centre x (mm) of the front face (-y, drawn at 170) through ``point``,
+    on y = point.
+
+    Its edges run through the crease pixels that bound the run of face pixels."""
+    u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
+    row = (side[v] >= FRONT_BAND[0]) & (side[v] <= FRONT_BAND[1])
+    if not row[u]:
+        return None
+    left, right = u, u
+    while left > 0 and row[left - 1]:
+        left -= 1
+    while right + 1 < len(row) and row[right + 1]:
+        right += 1
+    ends = [cam.point_on_plane((x, float(v)), 1, point[1])[0]
+            for x in (left - 1.0, right + 1.0)]
+    return float(ends[1] - ends[0]), float(ends[0] + ends[1]) / 2.0

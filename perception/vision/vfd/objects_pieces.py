@@ -1,0 +1,82 @@
+"""Which of the object-finder's readings are a block's pieces (objects_posed.py).
+
+A block the finder misread may come out as a column, rings, a stack of two, or
+a reading put elsewhere because its face was paired with a wrong height. When
+the monitor poses the block, those readings must go with it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from perception.vision.camera import Camera
+from perception.vision.vfd.objects import FoundObject
+
+GATE_MM = 15.0  # a top face this near an expected block's (in x, y) may be that block
+SIZE_MM = 8.0  # and its footprint this near the block's shape
+
+
+def box_rect(cam: Camera, center: Sequence[float], size: Sequence[float]
+          ) -> tuple[float, float, float, float]:
+    """The image rectangle (u0, v0, u1, v1) around a box's projection."""
+    corners = np.array([[center[k] + s * size[k] / 2.0 for k, s in enumerate((a, b, c))]
+                        for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)])
+    uv = cam.project(corners)
+    return (*uv.min(axis=0), *uv.max(axis=0))
+
+
+def reading_of(boxes: list, free: list[int], center: Sequence[float],
+             size: Sequence[float]) -> list[int]:
+    """The one found block whose top face is where this block's would be."""
+    return [i for i in free
+            if abs(boxes[i].position[0] - center[0]) <= GATE_MM
+            and abs(boxes[i].position[1] - center[1]) <= GATE_MM
+            and abs(boxes[i].size[0] - size[0]) + abs(boxes[i].size[1] - size[1]) <= SIZE_MM][:1]
+
+
+def pieces_of(boxes: list, free: list[int], center: Sequence[float], size: Sequence[float],
+            any_size: bool = False, any_height: bool = False, top_cam: Camera | None = None
+            ) -> list[int]:
+    """Found blocks within this block's footprint, no larger and not above it: its pieces.
+    With ``top_cam``, also any reading made of this block's pixels in the top view (its
+    box's image mostly on this one's): a face paired with a wrong height is put
+    elsewhere in x, y (a 15 mm pillar with another behind it on the side camera's line of
+    sight was read 13 mm off and 74 mm too tall, bench seed 1015)."""
+    top = center[2] + size[2] / 2.0
+    return [i for i in free
+            if (all(abs(boxes[i].position[k] - center[k]) <= size[k] / 2.0 for k in (0, 1))
+                or (top_cam is not None and _same_pixels(top_cam, boxes[i], center, size)))
+            and (any_height or boxes[i].position[2] - boxes[i].size[2] / 2.0 < top - SIZE_MM)
+            and (any_size or all(boxes[i].size[k] <= size[k] + SIZE_MM for k in (0, 1)))]
+
+
+def with_columns_under(boxes: list, parts: list[int], named: dict[str, int]) -> list[int]:
+    """``parts`` and the free readings each stands on (its footprint over theirs, its
+    bottom at their top within SIZE_MM), transitively: the finder split the column under
+    a misread face into a stack, and its lower piece is that face's reading too."""
+    out, grew = list(parts), True
+    while grew:
+        grew = False
+        for i, b in enumerate(boxes):
+            if b is None or i in out or i in named.values():
+                continue
+            top = b.position[2] + b.size[2] / 2.0
+            if any(abs(boxes[j].position[2] - boxes[j].size[2] / 2.0 - top) <= SIZE_MM and all(
+                    abs(boxes[j].position[k] - b.position[k]) < (boxes[j].size[k] + b.size[k]) / 2.0
+                    for k in (0, 1)) for j in out):
+                out.append(i)
+                grew = True
+    return sorted(out)
+
+
+def _same_pixels(cam: Camera, found: FoundObject, center: Sequence[float],
+                 size: Sequence[float]) -> bool:
+    """Whether a reading's box, in the top view, lies mostly (over half of the smaller
+    image rectangle) on this block's: the reading was made of this block's pixels."""
+    a, b = box_rect(cam, found.position, found.size), box_rect(cam, center, size)
+    common = max(0.0, min(a[2], b[2]) - max(a[0], b[0])) * \
+        max(0.0, min(a[3], b[3]) - max(a[1], b[1]))
+    smaller = min((a[2] - a[0]) * (a[3] - a[1]), (b[2] - b[0]) * (b[3] - b[1]))
+    return smaller > 0 and common > 0.5 * smaller
