@@ -50,7 +50,8 @@ def run_faults_one(task: tuple[int, str, str | None, str]) -> list[dict[str, Any
         return [{**base, "kind": "none", "error": f"{type(exc).__name__}: {exc}",
                  "traceback": traceback.format_exc(limit=-6)}]
     if plan is None:
-        return [{**base, "kind": "none", "error": "the demonstration did not give a plan"}]
+        # a recognition failure (analysis refused the sequence), not a crash
+        return [{**base, "kind": "none", "no_plan": "the demonstration did not give a plan"}]
     rng = np.random.default_rng(seed)
     out = []
     executable = True
@@ -227,9 +228,9 @@ def _relevant(sc: Any, report: dict[str, Any]) -> set[str]:
 
 def summarize_faults(records: list[dict[str, Any]]) -> dict[str, Any]:
     """The issue's figures over all runs."""
-    wrong_plans = [r for r in records if "error" not in r and r["kind"] == "none"
-                   and not r.get("plan_executable", True)]
-    runs = [r for r in records if "error" not in r and r.get("plan_executable", True)]
+    learned = [r for r in records if "error" not in r and "no_plan" not in r]
+    wrong_plans = [r for r in learned if r["kind"] == "none" and not r.get("plan_executable", True)]
+    runs = [r for r in learned if r.get("plan_executable", True)]
     free = [r for r in runs if r["kind"] == "none"]
     faulty = [r for r in runs if any(f["relevant"] for f in r["faults"])]
     injected = [f for r in runs for f in r["faults"] if f["relevant"]]
@@ -239,6 +240,7 @@ def summarize_faults(records: list[dict[str, Any]]) -> dict[str, Any]:
     return {
         "runs": len(records), "crashed": sum(1 for r in records if "error" in r),
         "plans_not_executable": len(wrong_plans),
+        "no_plan": sum(1 for r in records if "no_plan" in r),
         "fault_free_runs": len(free),
         "fault_free_without_detection": sum(1 for r in free if not r["detections"]),
         "faults_injected": len(injected),
@@ -270,8 +272,9 @@ def format_faults(s: dict[str, Any]) -> str:
         f" (of {s['faulty_runs']} runs with faults)",
         f"unrepaired runs with a reason:  {pct(s['unrepaired_with_reason'], s['unrepaired_runs'])}",
         f"cameras agree with the truth:   {pct(s['verdicts_agree'], s['verdict_runs'])}",
-        f"runs: {s['runs']}, crashed: {s['crashed']}, plans that fail without faults "
-        f"(learned wrong; their runs not counted above): {s.get('plans_not_executable', 0)}",
+        f"runs: {s['runs']}, crashed: {s['crashed']}, scenarios that gave no plan: "
+        f"{s.get('no_plan', 0)}, plans that fail without faults (learned wrong; their runs "
+        f"not counted above): {s.get('plans_not_executable', 0)}",
     ])
 
 
@@ -306,9 +309,10 @@ def run_faults(args: Any, out: Any, recs: Any, rules_dir: str | None,
     atomic_write_text(out, to_json(doc))
     print(format_faults(summary))
     for r in records:
-        if "error" in r or (not r["success"] and r.get("repairable", True)) or \
-                (r["kind"] == "none" and r["detections"]):
-            why = r.get("error") or r.get("failure") or "detections without a fault"
+        if "error" in r or "no_plan" in r or (not r["success"] and r.get("repairable", True)) \
+                or (r["kind"] == "none" and r["detections"]):
+            why = r.get("error") or r.get("no_plan") or r.get("failure") or \
+                "detections without a fault"
             print(f"  seed {r['seed']} {r['kind']}: {why}")
     print(f"summary: {out}; per-run records: {recs}")
     return 0

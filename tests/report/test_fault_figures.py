@@ -26,6 +26,8 @@ RECORDS = [
     run("drop+displace", [fault("drop", True), fault("displace", False)], False, [{"t": 6.0}],
         failure="verification: ...", cams=False, truth=True),
     {"seed": 2, "level": "nominal", "kind": "none", "error": "boom"},
+    # analysis refused the recognized sequence: a recognition failure, not a crash
+    {"seed": 4, "level": "2x", "kind": "none", "no_plan": "the demonstration did not give a plan"},
     # a plan learned wrong (it fails without faults, unmonitored too): the monitor rightly
     # detects its wrong structure; its runs measure the recognizer and are counted apart
     run("none", [], False, [{"t": 3.0}], failure="execution: ...", seed=3, executable=False),
@@ -36,7 +38,7 @@ RECORDS = [
 
 def test_figures():
     s = summarize_faults(RECORDS)
-    assert (s["runs"], s["crashed"], s["plans_not_executable"]) == (9, 1, 1)
+    assert (s["runs"], s["crashed"], s["no_plan"], s["plans_not_executable"]) == (10, 1, 1, 1)
     assert (s["fault_free_without_detection"], s["fault_free_runs"]) == (1, 2)
     assert (s["faults_detected"], s["faults_injected"]) == (3, 4)
     assert s["faults_on_unused_objects"] == 1
@@ -46,4 +48,4 @@ def test_figures():
     text = format_faults(s)
     assert "faults detected:                3/4 (75%) (+1 on objects the plan does not use)" in text
     assert "cameras agree with the truth:   5/6 (83%)" in text
-    assert "runs: 9, crashed: 1, plans that fail without faults" in text
+    assert "runs: 10, crashed: 1, scenarios that gave no plan: 1, plans that fail" in text
