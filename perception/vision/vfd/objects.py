@@ -381,4 +381,3 @@ class ObjectFinder(VFD):
         n = int(inside.sum())
         return float(solid[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][inside].sum()) / n \
             if n else 0.0
-

@@ -14,6 +14,7 @@ from dataclasses import replace
 from typing import Any
 
 from perception.vision.vfd.objects import FoundObject
+from perception.vision.vfd.objects_match import footprints_meet
 
 SIZE_MM = 8.0  # a face's footprint this near the block's shape
 TOP_MM = 6.0  # an uncovered block's top face measured this near its expected x, y
@@ -32,12 +33,16 @@ def tops_seen(group: list[str], expected: Mapping[str, Expected],
     view shows a top face of its footprint there at its height (``face_seen``)."""
     for n in group:
         c, size = expected[n][1], expected[n][2]
-        covered = any(m != n and expected[m][1][2] > c[2] and all(
-            abs(expected[m][1][k] - c[k]) < (expected[m][2][k] + size[k]) / 2.0 for k in (0, 1))
-            for m in group)
-        if not covered and not _top_seen(c, size, found) and not face_seen(c, size, check):
+        if not _covered(c, size, [expected[m][1:] for m in group if m != n]) \
+                and not _top_seen(c, size, found) and not face_seen(c, size, check):
             return False
     return True
+
+
+def _covered(c: Sequence[float], size: Sequence[float],
+             others: Sequence[tuple[Sequence[float], Sequence[float]]]) -> bool:
+    """Whether any of ``others`` (centre, size) stands higher over this block's footprint."""
+    return any(oc[2] > c[2] and footprints_meet(oc, os, c, size) for oc, os in others)
 
 
 def face_seen(c: Sequence[float], size: Sequence[float], check: Any) -> bool:
@@ -71,20 +76,19 @@ def measure_tops(boxes: list, named: dict[str, int], check: Any) -> None:
     A face is looked for within half the block's narrower side of its expected x, y (a
     12 mm cube's neighbour of its shape is nearer than 15 mm); it must be nearer to
     this block than to any other uncovered one."""
-    shown = [boxes[i] for i in named.values()]
-    uncovered = [b for b in shown if not any(
-        o is not b and o.position[2] > b.position[2] and all(
-            abs(o.position[k] - b.position[k]) < (o.size[k] + b.size[k]) / 2.0 for k in (0, 1))
-        for o in shown)]
+    idx = list(named.values())
+    uncovered = [i for i in idx if not _covered(boxes[i].position, boxes[i].size, [
+        (boxes[j].position, boxes[j].size) for j in idx if j != i])]
     moved = {}
-    for b in uncovered:
+    for i in uncovered:
+        b = boxes[i]
         xy = _face_at(b.position, b.size, check, min(b.size[:2]) / 2.0)
-        mine = xy is not None and min(uncovered, key=lambda o: math.dist(
-            o.position[:2], xy)) is b
+        mine = xy is not None and min(uncovered, key=lambda j: math.dist(
+            boxes[j].position[:2], xy)) == i
         if mine and max(abs(xy[0] - b.position[0]), abs(xy[1] - b.position[1])) > FACE_NOISE_MM:
-            moved[id(b)] = replace(b, position=(xy[0], xy[1], b.position[2]))
-    for i in named.values():
-        boxes[i] = moved.get(id(boxes[i]), boxes[i])
+            moved[i] = replace(b, position=(xy[0], xy[1], b.position[2]))
+    for i, b in moved.items():
+        boxes[i] = b
 
 
 def _top_seen(c: Sequence[float], size: Sequence[float], found: list[FoundObject]) -> bool:

@@ -13,6 +13,7 @@ import numpy as np
 
 from perception.vision.camera import Camera
 from perception.vision.vfd.objects import FoundObject
+from perception.vision.vfd.objects_match import footprints_meet
 
 GATE_MM = 15.0  # a top face this near an expected block's (in x, y) may be that block
 SIZE_MM = 8.0  # and its footprint this near the block's shape
@@ -63,9 +64,9 @@ def with_columns_under(boxes: list, parts: list[int], named: dict[str, int]) -> 
             if b is None or i in out or i in named.values():
                 continue
             top = b.position[2] + b.size[2] / 2.0
-            if any(abs(boxes[j].position[2] - boxes[j].size[2] / 2.0 - top) <= SIZE_MM and all(
-                    abs(boxes[j].position[k] - b.position[k]) < (boxes[j].size[k] + b.size[k]) / 2.0
-                    for k in (0, 1)) for j in out):
+            if any(abs(boxes[j].position[2] - boxes[j].size[2] / 2.0 - top) <= SIZE_MM
+                   and footprints_meet(boxes[j].position, boxes[j].size, b.position, b.size)
+                   for j in out):
                 out.append(i)
                 grew = True
     return sorted(out)

@@ -31,6 +31,7 @@ from perception.vision.camera import Camera
 from perception.vision.vfd.base import DARK_MAX
 from perception.vision.vfd.objects import FoundObject, ObjectFinder
 from perception.vision.vfd.objects_faces import measure_tops, tops_seen
+from perception.vision.vfd.objects_match import footprints_meet
 from perception.vision.vfd.objects_pieces import box_rect, pieces_of, reading_of, with_columns_under
 from perception.vision.vfd.resources import VisionResources
 
@@ -180,11 +181,7 @@ def _structures(expected: Mapping[str, Expected], cameras: Mapping[str, Camera]
 def _stacks(group: list[str], expected: Mapping[str, Expected]) -> list[list[str]]:
     """The group's blocks joined where their footprints overlap (one rests on, or over,
     the other), transitively: the stacks and bridges the group is made of."""
-    def meet(a: str, b: str) -> bool:
-        (ca, sa), (cb, sb) = expected[a][1:], expected[b][1:]
-        return all(abs(ca[k] - cb[k]) < (sa[k] + sb[k]) / 2.0 for k in (0, 1))
-
-    return _components(group, meet)
+    return _components(group, lambda a, b: footprints_meet(*expected[a][1:], *expected[b][1:]))
 
 
 def _components(names: Sequence[str], joined: Callable[[str, str], bool]) -> list[list[str]]:

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from perception.vision.vfd.base import DARK_MAX
-from perception.vision.vfd.objects_match import frames, nearest
+from perception.vision.vfd.objects_match import footprints_meet, frames, nearest
 
 RING_HIDDEN_MM = 6.0  # a top-face ring this thin (2 px from above) merges into its outline
 CREASE_MAX = 110  # crease lines are drawn at 60, faces at 170 and brighter
@@ -206,25 +206,22 @@ def consistent(found: list, shapes: Mapping[str, Sequence[float]], fits_mm: floa
     under a stack: pieces of that block's thin ring (3 px here, 2 there, at pixel noise)
     read as columns of their own, their heights and so their footprints wrong."""
     def over(f: Any, g: Any) -> bool:  # footprints meet, or nearly
-        return all(abs(f.position[k] - g.position[k]) < (f.size[k] + g.size[k]) / 2.0
-                   + RING_HIDDEN_MM for k in (0, 1))
+        return footprints_meet(f.position, f.size, g.position, g.size, RING_HIDDEN_MM)
 
-    def fits(f: Any) -> bool:
-        return nearest(shapes, np.array(f.size))[1] < fits_mm
-
-    kept = [f for f in found if fits(f) or not any(
-        g is not f and fits(g) and g.position[2] < f.position[2] and over(f, g) and any(
-            h is not g and h is not f and h.position[2] > g.position[2] and over(h, g)
-            for h in found)
-        for g in found)]
+    fit = [nearest(shapes, np.array(f.size))[1] for f in found]  # mm from the nearest shape
+    kept = [i for i, f in enumerate(found) if fit[i] < fits_mm or not any(
+        g is not f and fit[j] < fits_mm and g.position[2] < f.position[2] and over(f, g)
+        and any(h is not g and h is not f and h.position[2] > g.position[2] and over(h, g)
+                for h in found)
+        for j, g in enumerate(found))]
     # Two faces of one stack (a ring piece beside the top face, near the camera's axis)
     # can each be read as the whole stack: readings that fill the same space are one
     # block read twice; the one nearer a shape stays.
-    out: list = []
-    for f in sorted(kept, key=lambda f: nearest(shapes, np.array(f.size))[1]):
-        if not any(_shared(f, g) > 0.5 for g in out):
-            out.append(f)
-    return [f for f in found if f in out]
+    out: list[int] = []
+    for i in sorted(kept, key=lambda i: fit[i]):
+        if not any(_shared(found[i], found[j]) > 0.5 for j in out):
+            out.append(i)
+    return [f for i, f in enumerate(found) if i in out]
 
 
 def _shared(a: Any, b: Any) -> float:
@@ -242,6 +239,7 @@ def crease_at(cam, side: np.ndarray, point) -> bool:
     u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
     column = side[max(0, v - 1):v + 2, u]
     return bool(((column > DARK_MAX) & (column <= CREASE_MAX)).any())
+
 
 def width_at(cam, side: np.ndarray, point) -> tuple[float, float] | None:
     """Width and centre x (mm) of the front face (-y, drawn at 170) through ``point``,
