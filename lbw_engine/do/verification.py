@@ -80,9 +80,10 @@ def verify(
                                   f"'{name}' was not found in the final state"))
             continue
         positions[name] = [round(c, 1) for c in state.position]
-        if tilt(state.angle, state.size) > topple_rad:
+        turned = tilt(state.angle, state.size)
+        if turned > topple_rad:
             mismatches.append(_mm("toppled", name, 0.0, round(state.angle, 3),
-                                  f"'{name}' is tilted by {tilt(state.angle, state.size):.2f} rad"))
+                                  f"'{name}' is tilted by {turned:.2f} rad"))
         got = supports.get(name)
         if got is not None:
             relations.append([got[0], name, list(got[1]) if len(got[1]) > 1 else got[1][0]])

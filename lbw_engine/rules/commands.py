@@ -216,10 +216,10 @@ def parse(doc: Any, file: str, support: tuple[str, str], labels: dict[str, str],
         tip=mm(grip, "tip", "gripper.tip"),
         finger=rd.vector(grip, "finger", 3, "gripper.finger", 1.0, 200.0, "gripper.finger"),
         jaw_clearance=mm(grip, "clearance", "gripper.clearance"),
-        tip_clearance=mm(grip, "tip-clearance", "gripper.tip-clearance"),
+        tip_clearance=(tip := mm(grip, "tip-clearance", "gripper.tip-clearance")),
         max_below_top=mm(grip, "max-below-top", "gripper.max-below-top"),
         bottom_clearance=mm(grip, "bottom-clearance", "gripper.bottom-clearance")
-        if "bottom-clearance" in grip else mm(grip, "tip-clearance", "gripper.tip-clearance"),
+        if "bottom-clearance" in grip else tip,  # default: tip-clearance
         release_clearance=optional("release-clearance"),
         support_relations=tuple(support),
         focus_relations=rd.names(focus, "relations", "focus.relations", where="focus.relations"),
