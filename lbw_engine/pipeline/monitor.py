@@ -251,14 +251,14 @@ def camera_verdict(eyes: Eyes, expected: Mapping[str, Any], supports: Mapping[st
 
 
 def _rect(cam: Any, center: Any, size: Any) -> tuple[int, int, int, int]:
-    """The pixel rectangle around a box's image in camera ``cam``."""
-    import numpy as np
+    """The whole pixels around a box's image in camera ``cam`` (its image rectangle,
+    perception.vision.vfd.objects_pieces.box_rect, widened to pixel edges)."""
+    import math
 
-    corners = np.array([[center[k] + s * size[k] / 2.0 for k, s in enumerate((a, b, c))]
-                        for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)])
-    uv = cam.project(corners)
-    (u0, v0), (u1, v1) = np.floor(uv.min(axis=0)), np.ceil(uv.max(axis=0))
-    return int(u0), int(v0), int(u1) + 1, int(v1) + 1
+    from perception.vision.vfd.objects_pieces import box_rect
+
+    u0, v0, u1, v1 = box_rect(cam, center, size)
+    return math.floor(u0), math.floor(v0), math.ceil(u1) + 1, math.ceil(v1) + 1
 
 
 def _upright(names: set[str], seen: Look, eyes: Eyes) -> None:
