@@ -232,3 +232,28 @@ def test_a_partly_covered_block_taken_away_is_seen_gone(gone):
     at_goal = sorted(n for n, i in named.items()
                      if math.dist(boxes[i].position, PYRAMID[n][1]) <= 5.0)
     assert at_goal == sorted(world)
+
+
+
+DISC = (50.0, 50.0, 20.0)
+
+
+@pytest.mark.parametrize("cover, looked_for", [
+    # Fault bench seed 7011 (4x, no fault): a cube and a brick over a disc leave strips
+    # 8 mm wide along two of its edges, too thin to be sure of a face.
+    ((-246.5, 316.6, 40.0), False),
+    # The cube 15 mm off the disc's centre in y leaves a 25 mm strip: that face must show.
+    ((-242.8, 329.0, 40.0), True),
+], ids=["slivers", "strip"])
+def test_only_parts_of_a_covered_top_wide_enough_to_show_are_looked_for(cover, looked_for):
+    """With no top face in the top view at all, a covered block passes exactly when
+    nothing of its top is left in sight wider than PART_MM; slivers along its own edge
+    must not be kept because the border of its footprint looks like more of it."""
+    from perception.vision.vfd.objects_faces import part_seen
+
+    disc = (-242.8, 314.0, 10.0)
+    cams, images = _views({"b1": ("disc", disc, DISC), "b2": ("cube", cover, CUBE)})
+    check = Silhouettes(cams, images, [DISC, CUBE])
+    check.faces = []
+    assert part_seen(disc, DISC, [(cover, CUBE), ((-243.6, 316.6, 85.0), BRICK)],
+                     check) is not looked_for

@@ -83,9 +83,11 @@ def part_seen(c: Sequence[float], size: Sequence[float],
         shown[max(0, math.floor(sy0 - y0)):max(0, math.ceil(sy1 - y0)),
               max(0, math.floor(sx0 - x0)):max(0, math.ceil(sx1 - x0))] = 0
     # Slivers thinner than PART_MM (a strip beside a cover, where creases take the pixels)
-    # are not looked for.
+    # are not looked for; outside the footprint counts as hidden, or a sliver along the
+    # block's edge would be kept.
     k = int(PART_MM)
-    shown = cv2.morphologyEx(shown, cv2.MORPH_OPEN, np.ones((k, k), np.uint8))
+    shown = cv2.morphologyEx(shown, cv2.MORPH_OPEN, np.ones((k, k), np.uint8),
+                             borderType=cv2.BORDER_CONSTANT, borderValue=0)
     n, _, stats, _ = cv2.connectedComponentsWithStats(shown, connectivity=4)
     faces = [check.finder.footprint(rect, top) for rect in check.faces]
     t = PART_TOL_MM
