@@ -11,8 +11,9 @@ fault, from the execution reports (ground truth only for scoring):
   a fault on an object the plan does not use needs none and is counted apart;
 * repaired — the run ends verified by the cameras (and the ground truth);
 * repairable — unless the world made it impossible: an object the plan uses
-  removed with no spare of its shape, or a block lying on its side (the
-  robot's grasps keep a block's orientation; the ground truth confirms it);
+  removed (or slid off the table's edge) with no spare of its shape, or a block
+  lying on its side (the robot's grasps keep a block's orientation; the ground
+  truth confirms it);
 * every run that is not repaired must end with a reason (exit 1).
 
 A plan learned wrong cannot be done with or without faults (its fault-free run
@@ -211,9 +212,14 @@ def _execute(rec: dict[str, Any], text: str, faults: list[str], extra: str, plan
         later = [g["t"] for g in rec["faults"] if g["achieve"] > f["achieve"]]
         end = min(later, default=math.inf)
         f["detected"] = any(f["t"] <= d["t"] <= end for d in rec["detections"])
-    rec["repairable"] = not (
-        rec["toppled"] or any(f["kind"] == "remove" and f["relevant"] and not extra
-                              for f in rec["faults"]))
+    rec["repairable"] = repairable(rec["faults"], rec["toppled"], spare=bool(extra))
+
+
+def repairable(faults: list[dict[str, Any]], toppled: list[str], spare: bool) -> bool:
+    """Whether the world left the run repairable: no block on its side, and no object the
+    plan uses taken away (removed, or slid past the table's edge) without a spare."""
+    return not (toppled or any((f["kind"] == "remove" or f.get("off_table"))
+                               and f["relevant"] and not spare for f in faults))
 
 
 def _relevant(sc: Any, report: dict[str, Any]) -> set[str]:

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from lbw_engine.guard import number, shorten
+from lbw_engine.model.geometry import TABLE_X, TABLE_Y
 from lbw_engine.yamlio import line_of
 
 KINDS = ("drop", "displace", "remove")
@@ -122,9 +123,13 @@ class FaultInjector:
                 continue  # already removed
             if f.kind == "displace":
                 self.world.displace(body, f.by)
+                x, y, _ = self.world.positions()[body]
+                # Slid past the table's edge, the object is as good as removed.
+                off = not (TABLE_X[0] <= x <= TABLE_X[1] and TABLE_Y[0] <= y <= TABLE_Y[1])
+                self._record(f, off_table=off)
             else:
                 self.world.remove_block(body)
-            self._record(f)
+                self._record(f)
 
     def on_step(self, world: Any) -> None:
         """Per world step: let go of the held block once its carry speed has peaked."""
@@ -141,9 +146,12 @@ class FaultInjector:
                 self._armed = None
                 self._record(f)
 
-    def _record(self, f: Fault) -> None:
+    def _record(self, f: Fault, off_table: bool = False) -> None:
         """Note an injected fault (evaluation only: the robot never reads it)."""
-        rec = {"kind": f.kind, "achieve": self.achieve, "t": round(self.world.time, 2)}
+        rec: dict[str, Any] = {"kind": f.kind, "achieve": self.achieve,
+                               "t": round(self.world.time, 2)}
         if f.obj:
             rec["object"] = f.obj
+        if off_table:
+            rec["off_table"] = True
         self.injected.append(rec)

@@ -114,3 +114,30 @@ def test_removing_an_object_takes_it_out_of_the_world():
     inj.end(2)
     assert "x" not in world.names and "x" not in world.positions()
     assert [f["kind"] for f in inj.injected] == ["remove"]
+
+
+def test_a_displace_past_the_table_edge_is_recorded_as_off_the_table():
+    """Fault bench seed 7001: a tower's top brick slid 53 mm left of x = -264 fell off the
+    table; for the robot it is gone, like a removed object, and the record says so."""
+    world = _world()
+    inj = FaultInjector(world, (Fault("displace", 1, "x", (-250.0, 0.0)),
+                                Fault("displace", 1, "p", (20.0, 0.0))), {"x": "x", "p": "p"})
+    inj.begin(1)
+    inj.end(1)
+    assert [f.get("off_table", False) for f in inj.injected] == [True, False]
+
+
+@pytest.mark.parametrize("faults, toppled, spare, expected", [
+    ([{"kind": "displace", "relevant": True}], [], False, True),
+    ([{"kind": "displace", "relevant": True, "off_table": True}], [], False, False),
+    ([{"kind": "displace", "relevant": True, "off_table": True}], [], True, True),
+    ([{"kind": "displace", "relevant": False, "off_table": True}], [], False, True),
+    ([{"kind": "remove", "relevant": True}], [], False, False),
+    ([{"kind": "remove", "relevant": True}], [], True, True),
+    ([{"kind": "drop", "relevant": True}], ["b"], False, False),
+], ids=["displace", "off-table", "off-table-spare", "off-table-unused", "remove",
+        "remove-spare", "toppled"])
+def test_which_runs_the_fault_bench_counts_repairable(faults, toppled, spare, expected):
+    from lbw_engine.cli.bench_faults import repairable
+
+    assert repairable(faults, toppled, spare) is expected
