@@ -196,15 +196,17 @@ def _components(names: Sequence[str], joined: Callable[[str, str], bool]) -> lis
 
 def _replace_whole(boxes: list, named: dict[str, int], group: list[str],
                    expected: Mapping[str, Expected], check: Silhouettes) -> bool:
-    """The structure posed whole (``_replace_structure``), or else whole but for one of the
-    blocks whose top faces the top view does not show: the rest stands as expected and
-    that block is gone or moved (a second-row cube taken from a pyramid, fault bench
-    seed 7010). The block left out is then looked for on its own."""
+    """The structure posed whole (``_replace_structure``), or else whole but for one block:
+    the rest stands as expected and that block is gone or moved (a second-row cube taken
+    from a pyramid, fault bench seed 7010; a leg taken from under a table top, 7003).
+    Blocks whose top faces the top view does not show are tried first. The block left
+    out is then looked for on its own."""
     unseen: list[str] = []
     if _replace_structure(boxes, named, group, expected, check, unseen):
         return True
+    order = unseen + [n for n in group if n not in unseen]
     return len(group) > 2 and any(_replace_structure(
-        boxes, named, [m for m in group if m != n], expected, check) for n in unseen)
+        boxes, named, [m for m in group if m != n], expected, check) for n in order)
 
 
 def _replace_structure(boxes: list, named: dict[str, int], group: list[str],
