@@ -104,6 +104,14 @@ def test_family_demonstration_builds_its_structure(family):
     assert stands(generate(4, family=family).scenario())
 
 
+def test_stairs_demonstrated_at_4x_stand():
+    """Bench seed 1065 at 4x: three stairs set off by 12 mm each held their top two 2 mm
+    inside the lowest one's edge, and the hand's tremor made the stack fall while it was
+    demonstrated; the bench then expected a place where a block was seen to vanish.
+    Stairs are now simulated under the level's tremor before they are kept."""
+    assert stands(generate(1065, "4x", family="stairs").scenario())
+
+
 def test_unknown_family_and_structures_outside_classic_are_errors():
     with pytest.raises(ValueError, match="unknown family"):
         generate(1, family="towers")

@@ -250,7 +250,11 @@ def rearrange(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
 # a pillar hanging ~90 mm below its hand and comes down ~160 mm above the table (its
 # visual-search reach), so a pillar it brings over one standing can sweep it over;
 # whether it does depends on where the hand comes from, which the replay cannot tell.
-SIMULATED = frozenset({"pillars"})
+# Three stairs set off by 12 mm each hold their top two 18 mm off the lowest one's
+# centre, 2 mm inside its edge: the hand's tremor at 4x sets them off a little more and
+# the stack falls while it is demonstrated (bench seed 1065), so the script no longer
+# says what happened.
+SIMULATED = frozenset({"pillars", "stairs"})
 
 Builder = Callable[[np.random.Generator, str, bool], Piece]
 
