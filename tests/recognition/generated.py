@@ -19,9 +19,10 @@ from perception.world.stream import demonstration_frames, teach_names
 RULES = load_rules()
 
 
-def watch_generated(seed: int, level: str = "nominal") -> tuple[Any, Any, dict[str, Any]]:
+def watch_generated(seed: int, level: str = "nominal", family: str = "classic"
+                    ) -> tuple[Any, Any, dict[str, Any]]:
     """(scenario, recognizer, actions.json content) of one generated demonstration."""
-    sc = generate(seed, level).scenario()
+    sc = generate(seed, level, family=family).scenario()
     cams = default_cameras()
     rec, _ = watch_frames(demonstration_frames(sc, cams), cams, sc.shapes, load_rules(),
                           teach_names(sc))

@@ -57,3 +57,13 @@ def test_motion_points_stay_on_the_hand_at_4x_noise():
                 far.append((round(frame.t, 2), round(off)))
     assert md.sensor_noise == pytest.approx(8.0 * np.sqrt(2.0), rel=0.2)
     assert far == []
+
+
+def test_a_hand_hesitating_as_it_lifts_off_a_pillar_is_still_leaving():
+    """Bench seed 1017 (pillars, 4x): after setting a 112 mm pillar down, the hand paused
+    three times on its way up; at each pause the pillar under it was searched for and
+    found, giving an extra REACH and NO-OP. An empty hand that has not come down from its
+    highest point since its Transfer began, above where it began, is not arriving."""
+    sc, _, actions = watch_generated(1017, "4x", family="pillars")
+    assert_sequence(sc, actions)
+

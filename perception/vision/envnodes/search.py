@@ -43,6 +43,13 @@ MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target)
 ARRIVE_MM = 15.0
 SPEEDING_S = 0.1
 SPEEDING_UP = 0.2
+# An empty hand that pauses while it rises from where its Transfer began (x, y within
+# RISE_MM: it drifts as it lifts), not yet DESCENT_MM below the highest point it reached
+# since, is still leaving: at 4x a demonstrator's hand hesitates as it lifts off a placed
+# pillar, and the pillar under it was taken for a new target (an extra REACH and NO-OP,
+# bench seed 1017). A hand that touched a block and comes back down to pick it has
+# descended.
+RISE_MM, DESCENT_MM = 30.0, 15.0
 
 
 class SearchNode(EnvNodeBase):
@@ -79,14 +86,25 @@ class SearchNode(EnvNodeBase):
 
     def leaving(self, query: Query, env: EnvModel) -> bool:
         """A hand carrying an object that has not gone anywhere since its Transfer began, or
-        is speeding up: it is not arriving (an empty hand's reach is left as it was)."""
+        is speeding up, is not arriving; nor is an empty hand still rising above where its
+        Transfer began (``DESCENT_MM``)."""
         hand = self.hand
         if hand.held_box(env, spot=True) is None:
-            return False
+            return self.rising(query)
         start, before = hand.at(query.since), hand.at(self.sight.t - SPEEDING_S)
         if start is not None and float(np.hypot(*(hand.hand[:2] - start.hand[:2]))) < ARRIVE_MM:
             return True
         return before is not None and hand.speed() > before.speed + SPEEDING_UP * hand.v_fast
+
+    def rising(self, query: Query) -> bool:
+        """An empty hand within RISE_MM of where its Transfer began (x, y), not come down
+        from its highest point since then by DESCENT_MM."""
+        hand = self.hand
+        start = hand.at(query.since)
+        if start is None or float(np.hypot(*(hand.hand[:2] - start.hand[:2]))) >= RISE_MM:
+            return False
+        top = max(float(s.hand[2]) for s in hand.since(query.since))
+        return float(hand.hand[2]) > top - DESCENT_MM
 
     def regions(self, env: EnvModel) -> tuple[list[Region3D], set[str]]:
         """The search regions, top to bottom, and the names never to report (held, riders)."""
