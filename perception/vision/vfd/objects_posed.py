@@ -239,34 +239,39 @@ def _replace_structure(boxes: list, named: dict[str, int], group: list[str],
     first = len(boxes)
     boxes.extend(trial)
     mine = [(b.position, b.size) for b in trial]
-    if _fits(check, boxes, mine, [(b.position, b.size) for b in was.values()]):
-        named.update({n: first + k for k, n in enumerate(group)})
-        return True
-    # Other readings over the structure's images may be misreadings of it (a 6 mm sliver
-    # of a tower's front face read 118 mm tall beside it, fault bench seed 7011 at 4x):
-    # without them, the views must agree near them too, so a real block is not dropped.
-    stray = {i: boxes[i] for i in range(first) if boxes[i] is not None
-             and i not in named.values() and _overlaps(check.cameras, boxes[i], trial)}
-    if stray:
+    replaced = [(b.position, b.size) for b in was.values()]
+    stray: dict[int, FoundObject] = {}
+    if not _fits(check, boxes, mine, replaced):
+        # Other readings over the structure's images may be misreadings of it (a 6 mm
+        # sliver of a tower's front face read 118 mm tall beside it, fault bench seed 7011
+        # at 4x): without them, the views must agree near them too, so a real block is
+        # not dropped.
+        rects = [_images(check.cameras, b) for b in trial]
+        stray = {i: boxes[i] for i in range(first) if boxes[i] is not None
+                 and i not in named.values() and _overlaps(check.cameras, boxes[i], rects)}
         for i in stray:
             boxes[i] = None
-        if _fits(check, boxes, mine, [(b.position, b.size) for b in (*was.values(),
-                                                                   *stray.values())]):
-            named.update({n: first + k for k, n in enumerate(group)})
-            return True
-        for i, b in stray.items():
-            boxes[i] = b
-    del boxes[first:]
-    for i, b in was.items():
-        boxes[i] = b
-    return False
+        if not stray or not _fits(check, boxes, mine, replaced + [
+                (b.position, b.size) for b in stray.values()]):
+            del boxes[first:]
+            for i, b in (*was.items(), *stray.items()):
+                boxes[i] = b
+            return False
+    named.update({n: first + k for k, n in enumerate(group)})
+    return True
 
 
-def _overlaps(cameras: Mapping[str, Camera], found: FoundObject, blocks: list) -> bool:
-    """Whether a reading's box meets one of the blocks' boxes in both views' images."""
-    return any(all(_meet(box_rect(cam, found.position, found.size),
-                         box_rect(cam, b.position, b.size)) for cam in cameras.values())
-               for b in blocks)
+def _images(cameras: Mapping[str, Camera], found: FoundObject
+            ) -> dict[str, tuple[float, float, float, float]]:
+    """A box's image rectangle in each camera."""
+    return {name: box_rect(cam, found.position, found.size) for name, cam in cameras.items()}
+
+
+def _overlaps(cameras: Mapping[str, Camera], found: FoundObject,
+              rects: Sequence[Mapping[str, tuple[float, float, float, float]]]) -> bool:
+    """Whether a reading's box meets one of the blocks (their ``_images``) in both views."""
+    mine = _images(cameras, found)
+    return any(all(_meet(mine[name], r[name]) for name in mine) for r in rects)
 
 
 def _meet(a: Sequence[float], b: Sequence[float]) -> bool:
