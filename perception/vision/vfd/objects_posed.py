@@ -134,10 +134,20 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
                                                                  check)]
         else:
             doubtful.append(g)
+    # Whether the top view shows what is expected of a block's top beside the blocks
+    # expected over it: it depends on the expected poses and the images only, so it is
+    # worked out once per block, however many passes ask.
+    shown: dict[str, bool] = {}
+
+    def top_shown(name: str) -> bool:
+        if name not in shown:
+            shown[name] = uncovered_or_part_seen(name, expected, check)
+        return shown[name]
+
     for _ in range(PASSES):  # a block's pose may only fit once its neighbours' do
         before = len(named)
-        _add_hidden(boxes, named, added, expected, cost, check)
-        _replace(boxes, named, expected, cost, check)
+        _add_hidden(boxes, named, added, expected, cost, top_shown)
+        _replace(boxes, named, expected, cost, top_shown)
         if len(named) == before:
             break
     for group in doubtful:  # posed one by one, a structure must still fit as a whole
@@ -281,16 +291,16 @@ def _meet(a: Sequence[float], b: Sequence[float]) -> bool:
 
 def _add_hidden(boxes: list, named: dict[str, int], added: list[str],
                 expected: Mapping[str, Expected], cost: Callable[[], int],
-                check: Silhouettes) -> None:
+                top_shown: Callable[[str], bool]) -> None:
     """Expected blocks the finder saw nothing of, where adding them leaves the views as
     well explained (hidden from both cameras) or better, and the top view shows what is
-    expected of their top faces beside the blocks over them."""
+    expected of their top faces beside the blocks over them (``top_shown``)."""
     base = cost()
     for name, (shape, center, size) in sorted(expected.items()):
         free = [i for i, b in enumerate(boxes) if b is not None and i not in named.values()]
         if name in named or pieces_of(boxes, free, center, size, any_size=True):
             continue  # the finder saw something there that is not this block
-        if not uncovered_or_part_seen(name, expected, check):
+        if not top_shown(name):
             continue
         boxes.append(FoundObject(shape, tuple(map(float, center)), tuple(map(float, size)), 0.0))
         trial = cost()
@@ -348,13 +358,13 @@ def _too_many(boxes: list, named: dict[str, int], added: list[str], most: Mappin
 
 
 def _replace(boxes: list, named: dict[str, int], expected: Mapping[str, Expected],
-             cost: Callable[[], int], check: Silhouettes) -> None:
+             cost: Callable[[], int], top_shown: Callable[[str], bool]) -> None:
     """One pass: each unnamed expected block takes the place of the finder's reading of
     it, or of its pieces, where the views agree at least as well (and the top view shows
-    its top face beside the blocks expected over it)."""
+    its top face beside the blocks expected over it, ``top_shown``)."""
     base = cost()
     for name, (shape, center, size) in sorted(expected.items()):
-        if name in named or not uncovered_or_part_seen(name, expected, check):
+        if name in named or not top_shown(name):
             continue
         posed = FoundObject(shape, tuple(map(float, center)), tuple(map(float, size)), 0.0)
         free = [i for i, b in enumerate(boxes) if b is not None and i not in named.values()]
