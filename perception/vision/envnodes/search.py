@@ -87,24 +87,20 @@ class SearchNode(EnvNodeBase):
     def leaving(self, query: Query, env: EnvModel) -> bool:
         """A hand carrying an object that has not gone anywhere since its Transfer began, or
         is speeding up, is not arriving; nor is an empty hand still rising above where its
-        Transfer began (``DESCENT_MM``)."""
-        hand = self.hand
-        if hand.held_box(env, spot=True) is None:
-            return self.rising(query)
-        start, before = hand.at(query.since), hand.at(self.sight.t - SPEEDING_S)
-        if start is not None and float(np.hypot(*(hand.hand[:2] - start.hand[:2]))) < ARRIVE_MM:
-            return True
-        return before is not None and hand.speed() > before.speed + SPEEDING_UP * hand.v_fast
-
-    def rising(self, query: Query) -> bool:
-        """An empty hand within RISE_MM of where its Transfer began (x, y), not come down
-        from its highest point since then by DESCENT_MM."""
+        Transfer began (within RISE_MM, not come down from its highest point since then by
+        DESCENT_MM)."""
         hand = self.hand
         start = hand.at(query.since)
-        if start is None or float(np.hypot(*(hand.hand[:2] - start.hand[:2]))) >= RISE_MM:
-            return False
-        top = max(float(s.hand[2]) for s in hand.since(query.since))
-        return float(hand.hand[2]) > top - DESCENT_MM
+        moved = None if start is None else float(np.hypot(*(hand.hand[:2] - start.hand[:2])))
+        if hand.held_box(env, spot=True) is None:
+            if moved is None or moved >= RISE_MM:
+                return False
+            top = max(float(s.hand[2]) for s in hand.since(query.since))
+            return float(hand.hand[2]) > top - DESCENT_MM
+        if moved is not None and moved < ARRIVE_MM:
+            return True
+        before = hand.at(self.sight.t - SPEEDING_S)
+        return before is not None and hand.speed() > before.speed + SPEEDING_UP * hand.v_fast
 
     def regions(self, env: EnvModel) -> tuple[list[Region3D], set[str]]:
         """The search regions, top to bottom, and the names never to report (held, riders)."""
