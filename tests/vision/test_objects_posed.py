@@ -11,8 +11,12 @@ import math
 import pytest
 
 from perception.vision.camera import default_cameras
-from perception.vision.vfd.objects import FoundObject
+from perception.vision.frames import Frame
+from perception.vision.vfd.objects import FoundObject, ObjectFinder
+from perception.vision.vfd.objects_faces import FACE_NOISE_MM, part_seen
+from perception.vision.vfd.objects_pieces import box_rect
 from perception.vision.vfd.objects_posed import Silhouettes, _drop_unseen, explain
+from perception.vision.vfd.resources import VisionResources
 from perception.world.render import Renderer
 from perception.world.scene import Box
 
@@ -192,8 +196,6 @@ def test_a_top_within_the_face_noise_keeps_its_expected_pose():
     """Bench seed 1010 at 2x: two aligned faces, each measured about a millimetre off,
     came out 2.1 mm apart and failed a 2 mm coplanarity the simulator passed. A measured
     face moves a pose only past FACE_NOISE_MM."""
-    from perception.vision.vfd.objects_faces import FACE_NOISE_MM
-
     legs = {f"leg{i}": ("brick", (x, y, 25.0), LEG)
             for i, (x, y) in enumerate([(-88, 254), (-86, 323), (-6, 324), (-13, 254)])}
     goal = (-47.0, 288.0, 55.0)
@@ -219,10 +221,6 @@ def test_a_partly_covered_block_taken_away_is_seen_gone(gone):
     both views, so the silhouettes are those of the whole pyramid; only the top view's
     face of its uncovered half, at its height, shows whether it is there. The finder's
     own readings of the images are what ``explain`` gets, as in the monitor's look."""
-    from perception.vision.frames import Frame
-    from perception.vision.vfd.objects import ObjectFinder
-    from perception.vision.vfd.resources import VisionResources
-
     world = {n: v for n, v in PYRAMID.items() if n != gone}
     cams, images = _views({**world, "spare": SPARE})
     finder = ObjectFinder(cams, VisionResources())
@@ -249,8 +247,6 @@ def test_only_parts_of_a_covered_top_wide_enough_to_show_are_looked_for(cover, l
     """With no top face in the top view at all, a covered block passes exactly when
     nothing of its top is left in sight wider than PART_MM; slivers along its own edge
     must not be kept because the border of its footprint looks like more of it."""
-    from perception.vision.vfd.objects_faces import part_seen
-
     disc = (-242.8, 314.0, 10.0)
     cams, images = _views({"b1": ("disc", disc, DISC), "b2": ("cube", cover, CUBE)})
     check = Silhouettes(cams, images, [DISC, CUBE])
@@ -282,8 +278,7 @@ def test_a_misreading_beside_a_structure_does_not_push_it_out():
 
 def _face_px(cam, x0, y0, x1, y1, z):
     """The top-view pixel rectangle of a world rectangle at height z (top_faces' form)."""
-    uv = cam.project([[x, y, z] for x in (x0, x1) for y in (y0, y1)])
-    return (*uv.min(axis=0), *uv.max(axis=0))
+    return box_rect(cam, ((x0 + x1) / 2.0, (y0 + y1) / 2.0, z), (x1 - x0, y1 - y0, 0.0))
 
 
 @pytest.mark.parametrize("strips, shown", [
@@ -297,8 +292,6 @@ def _face_px(cam, x0, y0, x1, y1, z):
 def test_a_covered_disc_shows_the_rest_of_its_top(strips, shown):
     """A disc under a brick shows an 11 mm strip along one side (the thinner strips on
     two others are left out); the strip must be spanned by faces lying on the disc."""
-    from perception.vision.vfd.objects_faces import part_seen
-
     disc, brick = (-201.6, 216.7, 60.0), (-203.0, 216.6, 95.0)
     cams, images = _views({"b2": ("disc", disc, DISC), "b3": ("brick", brick, BRICK)})
     check = Silhouettes(cams, images, [DISC, BRICK])
