@@ -96,20 +96,42 @@ class ObjectFinder(VFD):
         rings = rims.find_rims(boxes, 0.6 * smallest, thinnest)
         framing = rims.pieces(boxes, rings, 0.6 * smallest)
         boxes = rims.complete_rims(boxes, framing, self.footprint, shapes)
-        found = []
-        for k, (height, (x0, y0, x1, y1), _) in enumerate(boxes):
-            if k in framing:
-                continue
+
+        def column(k: int) -> tuple[FoundObject, float]:
+            """Box ``k`` read as one block from its top face down to the face below (or the
+            table), and that base height."""
+            height, (x0, y0, x1, y1), _ = boxes[k]
             cx, cy = (x0 + x1) / 2.0, (y0 + y1) / 2.0
             below = [h for i, (h, (a0, b0, a1, b1), _) in enumerate(boxes) if i not in framing
                      and h < height - 3.0 and a0 <= cx <= a1 and b0 <= cy <= b1]
             base = max(below, default=0.0)
             size = np.array([x1 - x0, y1 - y0, height - base])
             name, mismatch = nearest(shapes, size)
-            single = FoundObject(name, (float(cx), float(cy), float(base + size[2] / 2.0)),
-                                 tuple(size.tolist()), mismatch)
-            stack = self._hidden_stack(single, base, y0, side_img, shapes, rings.get(k),
-                                       boxes[k][2])
+            return FoundObject(name, (float(cx), float(cy), float(base + size[2] / 2.0)),
+                               tuple(size.tolist()), mismatch), base
+
+        # A rim cut in two by the block on it: a stack only where the side view shows the
+        # seam and the pair fits the shapes better than the column; else the two faces
+        # stay blocks of their own.
+        split: dict[int, list[FoundObject]] = {}
+        for k, (rim, parts) in rims.split_rims(boxes, framing | set(rings), 0.6 * smallest
+                                               ).items():
+            single, base = column(k)
+            stack = self._hidden_stack(single, base, boxes[k][1][1], side_img, shapes, rim,
+                                       boxes[k][2], better=True)
+            if stack:
+                split[k] = stack
+                framing |= set(parts)
+        found = []
+        for k in range(len(boxes)):
+            if k in framing:
+                continue
+            if k in split:
+                found.extend(split[k])
+                continue
+            single, base = column(k)
+            stack = self._hidden_stack(single, base, boxes[k][1][1], side_img, shapes,
+                                       rings.get(k), boxes[k][2])
             found.extend(stack or [single])
         found = rims.consistent(found, shapes, STACK_MISMATCH_MM)
         self._found = bool(found)
@@ -126,14 +148,15 @@ class ObjectFinder(VFD):
             self.resources.free(win)
 
     def _hidden_stack(self, obj: FoundObject, base: float, front: float, side: np.ndarray,
-                      shapes: Mapping[str, Sequence[float]], ring=None, face=None
-                      ) -> list[FoundObject] | None:
+                      shapes: Mapping[str, Sequence[float]], ring=None, face=None,
+                      better: bool = False) -> list[FoundObject] | None:
         """Two stacked blocks where the top view shows at most a thin ring of the lower one.
 
         The column under the top face is then too tall for any shape. The side view
         shows a crease line across the front at the seam; the lower block's width
         comes from its front face there (or from the ring's outline), and the shape
-        database gives the pair that explains the column best.
+        database gives the pair that explains the column best. ``better``: only a pair
+        that fits the shapes better than the column (a ring that may not be one).
         """
         sx, sy, sz = obj.size
         if (obj.mismatch < STACK_MISMATCH_MM and ring is None) or not shapes:
@@ -177,7 +200,7 @@ class ObjectFinder(VFD):
             err = abs(tx - sx) + abs(ty - sy) + low_err
             if best is None or err < best[0]:
                 best = (err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam)
-        if best is None or (ring is None and best[0] >= obj.mismatch):
+        if best is None or ((ring is None or better) and best[0] >= obj.mismatch):
             return None
         err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam = best
         low = FoundObject(low_name, (float(low_at[0]), float(low_at[1]), base + low_size[2] / 2),

@@ -69,6 +69,52 @@ def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0) -> dict
     return {j: _union(*p) if len(p) > 1 else p[0] for j, p in parts.items()}
 
 
+def split_rims(boxes: list[Box], skip: set[int], sliver_px: float
+               ) -> dict[int, tuple[tuple, tuple[int, ...]]]:
+    """Upper face -> (pixel rectangle, pieces) of a rim its block cuts in two.
+
+    A block standing across a longer one (a post on the middle of a beam) hides the
+    middle of the lower top face: what shows is two faces at one height, one on each
+    side of the upper face and touching it, neither holding its centre (bench seed
+    1139: a brick on a 130 mm beam read as two bricks and a 70 mm column). Two such
+    faces are pieces of one rim when their extents across the cut overlap by half the
+    shorter one; the rectangle holding both is the rim's. Their heights must agree
+    when they lie side by side along x; along y the upper block hides the far half's
+    top from the side camera, and its height is whatever the search found. Whether
+    a lower block is really there is the side view's to say (a crease at the seam,
+    ObjectFinder._hidden_stack): two blocks standing on either side of a taller one
+    look the same from above.
+    """
+    out: dict[int, tuple[tuple, tuple[int, ...]]] = {}
+    for j, (h_up, _, up) in enumerate(boxes):
+        if j in skip or _thin(up, sliver_px):
+            continue
+        cx, cy = (up[0] + up[2]) / 2.0, (up[1] + up[3]) / 2.0
+        near = [i for i, (h, _, r) in enumerate(boxes) if i != j and i not in skip
+                and h < h_up - 3.0 and _touches(r, up) and not holds_centre(r, up)]
+        best = None
+        for a in near:
+            for b in near:
+                ha, ra = boxes[a][0], boxes[a][2]
+                hb, rb = boxes[b][0], boxes[b][2]
+                if a >= b:
+                    continue
+                for axis, centre in ((0, cx), (1, cy)):
+                    if axis == 0 and abs(ha - hb) > 3.0:
+                        continue  # a cut along y: the half behind is hidden from the side
+                    lo, hi = (ra, rb) if ra[axis] < rb[axis] else (rb, ra)
+                    across = 1 - axis
+                    overlap = min(lo[across + 2], hi[across + 2]) - max(lo[across], hi[across])
+                    short = min(lo[across + 2] - lo[across], hi[across + 2] - hi[across])
+                    if lo[axis + 2] <= centre <= hi[axis] and overlap >= 0.5 * short:
+                        rect = _union(ra, rb)
+                        if best is None or area_of(rect) > area_of(best[0]):
+                            best = (rect, (a, b))
+        if best is not None:
+            out[j] = best
+    return out
+
+
 def complete_rims(boxes: list[Box], skip: set[int],
                   footprint: Callable[[tuple, float], tuple[float, float, float, float]],
                   shapes: Mapping[str, Sequence[float]]) -> list[Box]:
