@@ -198,6 +198,12 @@ class ObjectFinder(VFD):
                 low_size = np.array([width, shapes[low_name][1], rest])
                 low_at = (mid, cy)  # x from the front face: the upper block may stand off-centre
             err = abs(tx - sx) + abs(ty - sy) + low_err
+            if ring is None and (tx, ty) != (sx, sy):
+                # The face measured is the thin rings' outer edge, the lower block's
+                # outline: that is what it must match, not the upper block hidden inside
+                # (a cube in a block's 5 mm ring paid the 10 mm ring twice and lost to a
+                # block on a cube: rearrange 1141, 1214).
+                err = abs(shapes[low_name][0] - sx) + abs(shapes[low_name][1] - sy) + low_err
             if best is None or err < best[0]:
                 best = (err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam)
         if best is None or ((ring is None or better) and best[0] >= obj.mismatch):
