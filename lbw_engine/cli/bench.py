@@ -105,14 +105,15 @@ def _rules(rules_dir: str | None) -> tuple:
 
 
 def teach_rename(actions: dict[str, Any], scenario: Any) -> dict[str, str]:
-    """Recognized object name -> the teach object of that shape nearest its measured x, y."""
+    """Recognized object name -> the teach object of that shape nearest its measured centre
+    (x, y, z: stacked blocks of one shape share x and y)."""
     out = {}
     for name, obj in actions.get("objects", {}).items():
         same = [(n, o) for n, o in scenario.teach.objects.items() if o.shape == obj["shape"]]
         if name in scenario.teach.objects or not same:
             continue
-        x, y = obj["position"][:2]
-        out[name] = min(same, key=lambda no: math.dist((x, y), no[1].center[:2]))[0]
+        at = obj["position"]
+        out[name] = min(same, key=lambda no: math.dist(at, no[1].center[:len(at)]))[0]
     return out
 
 

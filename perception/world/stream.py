@@ -28,7 +28,8 @@ def demonstration_frames(scenario, cameras: Mapping[str, Camera] | None = None,
         yield Frame(index, t, views["top"], views["side"])
 
 
-def teach_names(scenario) -> dict[str, tuple[str, tuple[float, float]]]:
-    """Naming hint: teach object name -> (shape, x, y) (the paper's manual shape names)."""
-    return {name: (spec.shape, (float(spec.center[0]), float(spec.center[1])))
+def teach_names(scenario) -> dict[str, tuple[str, tuple[float, float, float]]]:
+    """Naming hint: teach object name -> (shape, centre x y z) (the paper's manual shape
+    names). The height tells apart blocks of one shape stacked on each other."""
+    return {name: (spec.shape, tuple(float(c) for c in spec.center))
             for name, spec in scenario.teach.objects.items()}
