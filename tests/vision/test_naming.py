@@ -1,7 +1,7 @@
 """Naming found objects after the teach workspace (design.md, actions.json ``objects``).
 
 A found block takes the teach name of the nearest block of its shape within
-NAME_RADIUS, measured in x, y and z: blocks of one shape stacked on each other share
+NAME_RADIUS in x, y; nearest is measured in x, y and z: blocks of one shape stacked on each other share
 x and y (bench seed 1210, stacked-start: the lower cube took the upper one's name, and
 the plan's relations came out swapped although the sequence and execution were right).
 """
@@ -23,6 +23,9 @@ ROWS = [
     pytest.param("cube", (100.0, 200.0, 25.0), set(), None, id="other-shape-only"),
     pytest.param("brick", (100.0, 200.0 + NAME_RADIUS + 1.0, 25.0), set(), None,
                  id="beyond-radius"),
+    # the radius is on x, y: a height misread (a thin pillar's, bench 1267) keeps the name
+    pytest.param("brick", (100.0 - NAME_RADIUS / 2, 200.0, 25.0 + 2 * NAME_RADIUS), set(),
+                 "post", id="height-misread"),
 ]
 
 

@@ -67,15 +67,19 @@ class ObjectFinderNode(EnvNodeBase):
         return Detection(found=tuple(out), objects=out)
 
     def _teach_name(self, shape: str, pos: Sequence[float], taken: set[str]) -> str | None:
-        """The hint's name of the same shape nearest to ``pos`` (within NAME_RADIUS).
+        """The hint's name of the same shape nearest to ``pos``, within NAME_RADIUS in x, y.
 
-        Distances are in x, y and, where the hint gives it, z: two cubes stacked on each
-        other share x and y (bench 1210: the lower one took the upper one's name, and
-        the plan's relations came out swapped)."""
-        best, dist = None, NAME_RADIUS
+        Among those the nearest is chosen in x, y and, where the hint gives it, z: two
+        cubes stacked on each other share x and y (bench 1210: the lower one took the
+        upper one's name, and the plan's relations came out swapped). The radius stays
+        on x, y: a thin pillar's height misread by 80 mm is still that pillar (1267)."""
+        best, dist = None, np.inf
         for name, (s, at) in self.names.items():
+            if s != shape or name in taken or \
+                    float(np.hypot(pos[0] - at[0], pos[1] - at[1])) > NAME_RADIUS:
+                continue
             n = min(len(at), len(pos))
             d = float(np.linalg.norm(np.subtract(pos[:n], at[:n])))
-            if s == shape and name not in taken and d <= dist:
+            if d < dist:
                 best, dist = name, d
         return best
