@@ -1,9 +1,10 @@
 """Naming found objects after the teach workspace (design.md, actions.json ``objects``).
 
 A found block takes the teach name of the nearest block of its shape within
-NAME_RADIUS in x, y; nearest is measured in x, y and z: blocks of one shape stacked on each other share
-x and y (bench seed 1210, stacked-start: the lower cube took the upper one's name, and
-the plan's relations came out swapped although the sequence and execution were right).
+NAME_RADIUS in x, y; nearest is measured in x, y and z: blocks of one shape stacked on
+each other share x and y (bench seed 1210, stacked-start: the lower cube took the upper
+one's name, and the plan's relations came out swapped although the sequence and
+execution were right).
 """
 
 from types import SimpleNamespace

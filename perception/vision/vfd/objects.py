@@ -29,6 +29,10 @@ MIN_FACE_PX = 6
 STACK_MISMATCH_MM = 8.0  # a column this far from every shape may be a stack of two
 MIN_SCORE = 0.25  # correspondence score (IoU x solid fraction) taken as a match
 CANDIDATES = 3  # side top faces refined per top-view face
+# A column read by its top edge (solid up to h, dark just above) must be solid over at least
+# this share of its side image: above a thin pillar everything is dark, and a column 80 mm
+# too tall, 41 % of it background, outscored the pillar's own height (bench 1267).
+COLUMN_SOLID = 0.8
 
 
 @dataclass(frozen=True)
@@ -340,8 +344,8 @@ class ObjectFinder(VFD):
 
         Either the column covers one side-view silhouette (IoU), or, where the
         silhouette runs on into a block in front of the column (a 10 mm cube behind a
-        plate's edge is one blob with it), the column is solid up to h and the side
-        image is dark just above it (its top edge).
+        plate's edge is one blob with it), the column is solid up to h (at least
+        COLUMN_SOLID of it) and the side image is dark just above it (its top edge).
         """
 
         def score(h: float) -> float:
@@ -355,8 +359,10 @@ class ObjectFinder(VFD):
             counts[0] = 0
             best = int(counts.argmax())
             iou = counts[best] / float(len(under) + areas[best] - counts[best])
-            return max(iou, self._solid_fraction(rect, h, solid) * self._dark_above(
-                rect, h, solid))
+            filled = self._solid_fraction(rect, h, solid)
+            if filled < COLUMN_SOLID:
+                return float(iou)
+            return max(iou, filled * self._dark_above(rect, h, solid))
 
         coarse = [(score(h), h) for h in np.arange(1.0, 300.0, 2.0)]
         best, h0 = max(coarse)
