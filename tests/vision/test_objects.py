@@ -205,6 +205,10 @@ REARRANGE_STACKS = [
     # only the cube's front ring shows: the cover measured 4 mm short of its back edge,
     # which no shape as deep as the cube fitted, so its rim was called a brick
     pytest.param((65, 205), 2.0, ("cube", "brick"), id="1105-execute"),
+    # a rim lying inside its cover shows no edge of the lower block: the hidden-ring
+    # allowance above must not apply to it, or a tile's face is completed to a block
+    pytest.param((182, 326), 4.0, ("block", "cube", "tile"), id="1070-teach"),
+    pytest.param((100, 183), 8.0, ("block", "cube", "tile"), id="1071-teach"),
 ]
 
 

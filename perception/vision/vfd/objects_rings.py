@@ -195,9 +195,11 @@ def complete_rim(rim: Sequence[float], cover: Sequence[float], upper: Sequence[f
         for a in range(2):
             if seen_lo[a] and seen_hi[a]:
                 err += abs(s[a] - (hi[a] - lo[a]))
-            elif s[a] > room[a] + 2 * EDGE_MM + (2 - int(seen_lo[a]) - int(seen_hi[a])) \
-                    * RING_HIDDEN_MM:
-                err = np.inf  # it would show beyond the cover, or as a ring thick enough to see
+            elif s[a] > room[a] + 2 * EDGE_MM + (seen_lo[a] or seen_hi[a]) * RING_HIDDEN_MM:
+                # it would show beyond the cover; where the rim shows one edge, the other
+                # side may hide a ring too thin to see (with no edge shown, the rim lies
+                # inside the cover and says nothing of the block's outline)
+                err = np.inf
             else:
                 err += max(0.0, (hi[a] - lo[a]) - s[a])  # shorter than what is seen of it
         if np.isfinite(err) and (best is None or err < best[0]):
