@@ -21,7 +21,7 @@ import numpy as np
 from perception.vision.frames import Frame
 from perception.vision.vfd import objects_rings as rims
 from perception.vision.vfd.base import DARK_MAX, VFD
-from perception.vision.vfd.objects_match import SilhouetteCheck, assign, nearest
+from perception.vision.vfd.objects_match import SilhouetteCheck, assign, frames, nearest
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
@@ -75,7 +75,9 @@ class ObjectFinder(VFD):
             if k in pairing and pairing[k][1] >= MIN_SCORE:
                 return pairing[k]
             if k not in fallback:  # the top face is too thin to see from the side
-                fallback[k] = self._height_from_silhouette(faces[k], blobs, blob_areas, solid)
+                rim = any(frames(faces[k], f) for j, f in enumerate(faces) if j != k)
+                fallback[k] = self._height_from_silhouette(faces[k], blobs, blob_areas, solid,
+                                                           rim)
             return fallback[k]
 
         def cost(pairing: dict[int, tuple[float, float]]) -> int:
@@ -339,13 +341,17 @@ class ObjectFinder(VFD):
         return sorted(out, reverse=True)
 
     def _height_from_silhouette(self, rect, blobs: np.ndarray, areas: np.ndarray,
-                                solid: np.ndarray) -> tuple[float, float]:
+                                solid: np.ndarray, rim: bool = False) -> tuple[float, float]:
         """Height whose box [footprint] x [0, h] best explains the side view.
 
         Either the column covers one side-view silhouette (IoU), or, where the
         silhouette runs on into a block in front of the column (a 10 mm cube behind a
         plate's edge is one blob with it), the column is solid up to h (at least
         COLUMN_SOLID of it) and the side image is dark just above it (its top edge).
+        A ``rim`` (a face framing another) is exempt from COLUMN_SOLID: its column up
+        to the top of the block standing in it is hollow beside that block, and that
+        height is what makes it a rim (``objects_rings.find_rims``; bench 1068, a disc
+        under a brick).
         """
 
         def score(h: float) -> float:
@@ -360,7 +366,7 @@ class ObjectFinder(VFD):
             best = int(counts.argmax())
             iou = counts[best] / float(len(under) + areas[best] - counts[best])
             filled = self._solid_fraction(rect, h, solid)
-            if filled < COLUMN_SOLID:
+            if filled < COLUMN_SOLID and not rim:
                 return float(iou)
             return max(iou, filled * self._dark_above(rect, h, solid))
 
