@@ -52,8 +52,10 @@ def _specs(sc, which: str) -> list[ObjectSpec]:
                        final.support[n]) for n in final.center]
 
 
-def truth_and_frame(seed: int, level: str, which: str) -> tuple[list, dict, Frame]:
-    """True (shape, centre) pairs, the shape database and the rendered frame of ``which``."""
+def truth_and_frame(seed: int, level: str, which: str, family: str = "classic"
+                    ) -> tuple[list, dict, Frame]:
+    """True (shape, centre) pairs, the shape database and the rendered frame of ``which``
+    (the scenario of generator ``family``)."""
     if which.startswith("layout-"):  # bench_layouts' random execute workspaces
         from bench.bench_layouts import random_layout, with_layout
         from lbw_engine.paths import bundled_scenario
@@ -63,7 +65,7 @@ def truth_and_frame(seed: int, level: str, which: str) -> tuple[list, dict, Fram
         sc = with_layout(path, random_layout(load(path), seed), seed)
         which = "execute"
     else:
-        sc = generate(seed, level).scenario()
+        sc = generate(seed, level, family=family).scenario()
     specs = _specs(sc, which)
     world = World(specs)
     world.settle(0.5)
@@ -91,15 +93,18 @@ def score(truth: list, found: list) -> tuple[int, int, int, list[float]]:
     return len(truth) - len(used_t), len(found) - len(used_f), wrong, errors
 
 
-def run(seeds: range, levels: list[str], sets: list[str]) -> dict[str, Tally]:
-    """Evaluate the finder on both workspaces of every seed at every level."""
+def run(seeds: range, levels: list[str], sets: list[str],
+        families: tuple[str, ...] = ("classic",)) -> dict[str, Tally]:
+    """Evaluate the finder on both workspaces of every seed at every level; the k-th seed
+    is of family ``families[k % len(families)]``."""
     cams = default_cameras()
     out: dict[str, Tally] = {}
     for level in levels:
         t = out.setdefault(level, Tally())
-        for seed in seeds:
+        for k, seed in enumerate(seeds):
+            family = families[k % len(families)]
             for which in sets:
-                truth, shapes, frame = truth_and_frame(seed, level, which)
+                truth, shapes, frame = truth_and_frame(seed, level, which, family)
                 start = time.perf_counter()
                 found = ObjectFinder(cams, VisionResources()).find(frame, shapes)
                 t.times.append(time.perf_counter() - start)
@@ -111,7 +116,7 @@ def run(seeds: range, levels: list[str], sets: list[str]) -> dict[str, Tally]:
                 t.wrong_shape += wrong
                 t.errors += errs
                 if miss or ghost or wrong or (errs and max(errs) > 5.0):  # any error > 5 mm
-                    t.bad.append(f"{seed}/{which}: miss {miss} phantom {ghost} shape {wrong} "
+                    t.bad.append(f"{seed}/{family}/{which}: miss {miss} phantom {ghost} shape {wrong} "
                                  f"max err {max(errs, default=0):.1f}")
     return out
 
@@ -125,10 +130,18 @@ def main(argv: list[str]) -> dict:
     ap.add_argument("--sets", default="teach,execute",
                     help="teach, execute, final (the built structures), "
                          "layout-build-table, layout-inverted-arch")
+    ap.add_argument("--families", default="classic",
+                    help="generator families taken in turn, comma-separated, or 'all'")
     ap.add_argument("--verbose", action="store_true")
     args = ap.parse_args(argv)
+    from perception.world.generator import FAMILIES
+
+    families = FAMILIES if args.families == "all" else tuple(args.families.split(","))
+    unknown = [f for f in families if f not in FAMILIES]
+    if unknown:
+        ap.error(f"--families: unknown {', '.join(unknown)} (known: {', '.join(FAMILIES)})")
     tallies = run(range(args.seed, args.seed + args.count), args.levels.split(","),
-                  args.sets.split(","))
+                  args.sets.split(","), families)
     figures: dict[str, float] = {}
     for level, t in tallies.items():
         e = np.array(t.errors or [0.0])
