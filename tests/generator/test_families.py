@@ -1,6 +1,7 @@
 """Scenario families (issue #12): each draws valid, loadable, buildable scenarios of its class."""
 
 import math
+from pathlib import Path
 
 import pytest
 
@@ -9,7 +10,7 @@ from lbw_engine.cli.bench import LEVELS, tasks
 from lbw_engine.report.families import format_families, summarize_families
 from lbw_engine.report.metrics import wilson
 from perception.world.generator import FAMILIES, distinguishable, family_of, generate, stands
-from perception.world.scenario import load_text
+from perception.world.scenario import load, load_text
 
 SEEDS = (0, 1, 2)
 
@@ -110,6 +111,16 @@ def test_stairs_demonstrated_at_4x_stand():
     demonstrated; the bench then expected a place where a block was seen to vanish.
     Stairs are now simulated under the level's tremor before they are kept."""
     assert stands(generate(1065, "4x", family="stairs").scenario())
+
+
+def test_gaps_are_kept_only_where_the_demonstration_ends_as_written():
+    """Bench seed 1151 at 2x: a cube meant for 1 mm beside its neighbour landed on the
+    neighbour's edge and slid 16 mm off, and the next one, meant for 9 mm beside it, then
+    overlapped it; the bench expected places the demonstration did not make. Gaps are
+    now simulated under the level's tremor before they are kept."""
+    slid = load(Path(__file__).parent / "data" / "gaps-1151-slid.yaml")
+    assert not stands(slid)
+    assert stands(generate(1151, "2x", family="gaps").scenario())
 
 
 def test_unknown_family_and_structures_outside_classic_are_errors():
