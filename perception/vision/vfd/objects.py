@@ -181,7 +181,8 @@ class ObjectFinder(VFD):
                 continue
             if ring is not None:  # the lower block's outline is the ring's, or shows in it
                 done = rims.complete_rim(self.footprint(ring, seam), rims.cover_of(
-                    obj, self.footprint(face, seam)), (cx, cy), rest, shapes)
+                    obj, self.footprint(face, seam)), (cx, cy), rest, shapes,
+                    STACK_MISMATCH_MM)
                 if done is None:
                     continue
                 low_name, low_at, low_xy, low_err = done

@@ -172,7 +172,7 @@ def holds_centre(outer, inner, tol: float = 1.0) -> bool:
 
 def complete_rim(rim: Sequence[float], cover: Sequence[float], upper: Sequence[float],
                  height: float,
-                 shapes: Mapping[str, Sequence[float]]
+                 shapes: Mapping[str, Sequence[float]], stacked: float | None = None
                  ) -> tuple[str, tuple[float, float], tuple[float, float], float] | None:
     """The lower block behind a partly hidden rim: (shape, centre x y, size x y, mismatch).
 
@@ -181,7 +181,11 @@ def complete_rim(rim: Sequence[float], cover: Sequence[float], upper: Sequence[f
     lower block's own height. Per axis, the block's extent is measured where both
     edges show; where one shows, the shape's size runs from it into the cover;
     the shape must be as long as the visible rim and no longer than the rim and
-    the cover together. None when no shape fits within the room.
+    the cover together. None when no shape fits within the room. When no shape's
+    height is within ``stacked`` mm of ``height``, the part under the cover is a
+    stack itself (three blocks whose rings merged): the rim is its top block's, and
+    the shape is chosen by its outline alone (the caller splits the part again;
+    bench 1105, a cube's ring over a block, completed as a 30 mm brick).
     """
     lo = np.array(rim[:2], float)
     hi = np.array(rim[2:], float)
@@ -189,9 +193,11 @@ def complete_rim(rim: Sequence[float], cover: Sequence[float], upper: Sequence[f
     seen_lo, seen_hi = lo < c_lo - EDGE_MM, hi > c_hi + EDGE_MM
     room = np.maximum(hi, c_hi) - np.minimum(lo, c_lo)
     best = None
+    tall = stacked is not None and all(abs(float(v[2]) - height) > stacked
+                                       for v in shapes.values())
     for name, size in shapes.items():
         s = np.asarray(size, float)
-        err = abs(s[2] - height)
+        err = 0.0 if tall else abs(s[2] - height)
         for a in range(2):
             if seen_lo[a] and seen_hi[a]:
                 err += abs(s[a] - (hi[a] - lo[a]))
