@@ -116,8 +116,8 @@ def run(seeds: range, levels: list[str], sets: list[str],
                 t.wrong_shape += wrong
                 t.errors += errs
                 if miss or ghost or wrong or (errs and max(errs) > 5.0):  # any error > 5 mm
-                    t.bad.append(f"{seed}/{family}/{which}: miss {miss} phantom {ghost} shape {wrong} "
-                                 f"max err {max(errs, default=0):.1f}")
+                    t.bad.append(f"{seed}/{family}/{which}: miss {miss} phantom {ghost} "
+                                 f"shape {wrong} max err {max(errs, default=0):.1f}")
     return out
 
 
