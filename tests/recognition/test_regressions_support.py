@@ -32,3 +32,17 @@ def test_place_target_recognized(seed, level):
     sc, rec, actions = watch_generated(seed, level)
     assert_sequence(sc, actions)
     assert_supports(sc, rec)
+
+
+@pytest.mark.heavy
+def test_a_small_cube_over_a_tower_waits_for_the_tower():
+    """Bench seed 1157 (small, 2x): a 17 mm cube held 70 mm above a tower of two such
+    cubes, its centre not yet over the upper one, made the tower's level wait (it may be
+    coming in over it), but the level below answered at once: the cube was recorded on
+    the tower's lower cube, and the plan put the upper one where the cube stood. A
+    higher level that waits holds back every lower one (SearchNode.near). The same
+    scenario's PICK of the third cube, from behind the tower, needs the pick threshold
+    scaled to what the side camera sees of it (tests/vision/test_small_blocks.py)."""
+    sc, rec, actions = watch_generated(1157, "2x", family="small")
+    assert_sequence(sc, actions)
+    assert_supports(sc, rec)

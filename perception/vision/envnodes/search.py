@@ -150,6 +150,11 @@ class SearchNode(EnvNodeBase):
                 names = self.confirm(region, env, skip, held[1] if held else None)
                 if names is WAIT:
                     coming = True
+                elif names and coming:
+                    # a higher level the held block may still be coming in over has not
+                    # decided: nor can a lower one (bench 1157: a small cube held over a
+                    # two-cube tower, 70 mm up, was recorded on the tower's lower cube)
+                    return WAIT
                 elif names:
                     self.last = region
                     return names
