@@ -178,6 +178,24 @@ def test_a_brick_on_a_disc_is_found_on_the_disc(at, noise):
         assert np.linalg.norm(np.subtract(f.position, box.center)) < 5.0, (shape, f)
 
 
+@pytest.mark.parametrize("noise", [2.0, 4.0], ids=["nominal", "2x"])
+def test_a_cube_pushed_to_a_planks_back_edge_is_found(noise):
+    """Fault bench 3001 (displace): a cube pushed to the back edge of an inverted T's
+    plank overhangs it; its top face is hidden from the side camera, so its height comes
+    from the silhouette, and the column under its footprint down to the table is partly
+    background (the pillar is narrower). Asking that whole column to be 80 % solid lost
+    the cube, and the monitor called it gone. Only the column's top must be solid."""
+    shapes = {"cube": (40, 40, 40), "pillar": (50, 50, 50), "plank": (160, 60, 20)}
+    edge = block(-50, 365, shapes["cube"], 70)
+    scene = [block(-67, 332, shapes["pillar"]), block(-68, 333, shapes["plank"], 50),
+             block(-12, 334, shapes["cube"], 70), edge]
+    found = ObjectFinder(CAMS, VisionResources()).find(Film(noise=noise, seed=5).shoot(scene),
+                                                       shapes)
+    near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, edge.center)))
+    assert near.shape == "cube"
+    assert np.linalg.norm(np.subtract(near.position, edge.center)) < 5.0, near
+
+
 def test_the_top_of_a_three_block_stack_is_found():
     """A 30x30x20 tile on a 40 mm cube on a 50 mm block (the rearrange family, seed 1069):
     the cube's face is a rim of the block and rims the tile; it must not be taken for a

@@ -29,10 +29,12 @@ MIN_FACE_PX = 6
 STACK_MISMATCH_MM = 8.0  # a column this far from every shape may be a stack of two
 MIN_SCORE = 0.25  # correspondence score (IoU x solid fraction) taken as a match
 CANDIDATES = 3  # side top faces refined per top-view face
-# A column read by its top edge (solid up to h, dark just above) must be solid over at least
-# this share of its side image: above a thin pillar everything is dark, and a column 80 mm
-# too tall, 41 % of it background, outscored the pillar's own height (bench 1267).
-COLUMN_SOLID = 0.8
+# A column read by its top edge (solid up to h, dark just above) must show a block at that
+# edge: its top COLUMN_TOP_MM solid over at least COLUMN_SOLID of their side image. Above a
+# thin pillar everything is dark, and a column 80 mm too tall outscored the pillar's own
+# height (bench 1267). Only the top is asked: lower down, a block standing on something
+# narrower overhangs background (a cube pushed to a plank's edge, fault bench 3001).
+COLUMN_SOLID, COLUMN_TOP_MM = 0.8, 15.0
 
 
 @dataclass(frozen=True)
@@ -347,9 +349,9 @@ class ObjectFinder(VFD):
 
         Either the column covers one side-view silhouette (IoU), or, where the
         silhouette runs on into a block in front of the column (a 10 mm cube behind a
-        plate's edge is one blob with it), the column is solid up to h (at least
-        COLUMN_SOLID of it) and the side image is dark just above it (its top edge).
-        A ``rim`` (a face framing another) is exempt from COLUMN_SOLID: its column up
+        plate's edge is one blob with it), the column is solid up to h (its top
+        COLUMN_TOP_MM at least COLUMN_SOLID) and the side image is dark just above it
+        (its top edge). A ``rim`` (a face framing another) is exempt: its column up
         to the top of the block standing in it is hollow beside that block, and that
         height is what makes it a rim (``objects_rings.find_rims``; bench 1068, a disc
         under a brick).
@@ -366,10 +368,11 @@ class ObjectFinder(VFD):
             counts[0] = 0
             best = int(counts.argmax())
             iou = counts[best] / float(len(under) + areas[best] - counts[best])
-            filled = self._solid_fraction(rect, h, solid)
-            if filled < COLUMN_SOLID and not rim:
+            top = self._solid_fraction(rect, h, solid, max(0.0, h - COLUMN_TOP_MM))
+            if top < COLUMN_SOLID and not rim:
                 return float(iou)
-            return max(iou, filled * self._dark_above(rect, h, solid))
+            return max(iou, self._solid_fraction(rect, h, solid) * self._dark_above(
+                rect, h, solid))
 
         coarse = [(score(h), h) for h in np.arange(1.0, 300.0, 2.0)]
         best, h0 = max(coarse)
@@ -378,10 +381,11 @@ class ObjectFinder(VFD):
         hits = [h for sc, h in fine if sc >= top_score - 1e-9]
         return float(np.mean(hits)), max(best, top_score)
 
-    def _column_hull(self, rect, h: float, shape) -> tuple[tuple[int, int], np.ndarray] | None:
+    def _column_hull(self, rect, h: float, shape, z0: float = 0.0
+                     ) -> tuple[tuple[int, int], np.ndarray] | None:
         """Side-view mask (origin, mask) of the box [footprint at h] x [0, h], if in view."""
         x0, y0, x1, y1 = self.footprint(rect, h)
-        corners = np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1) for z in (0.0, h)])
+        corners = np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1) for z in (z0, h)])
         uv = self.cameras["side"].project(corners)
         ox, oy = np.floor(uv.min(axis=0)).astype(int)
         ex, ey = np.ceil(uv.max(axis=0)).astype(int) + 1
@@ -413,9 +417,9 @@ class ObjectFinder(VFD):
             return 0.0
         return 1.0 - float(solid[y0:y1, x0:x1][band].sum()) / n
 
-    def _solid_fraction(self, rect, h: float, solid: np.ndarray) -> float:
-        """Fraction of the side-view image of the column [footprint] x [0, h] not dark."""
-        hull = self._column_hull(rect, h, solid.shape)
+    def _solid_fraction(self, rect, h: float, solid: np.ndarray, z0: float = 0.0) -> float:
+        """Fraction of the side-view image of the column [footprint] x [z0, h] not dark."""
+        hull = self._column_hull(rect, h, solid.shape, z0)
         if hull is None:
             return 0.0
         (ox, oy), mask = hull
