@@ -160,7 +160,7 @@ def test_blocks_either_side_of_a_taller_one_stay_blocks(along_x):
 
 # A brick standing on a 50 x 50 x 20 disc (the stacked-start family): the disc's 10 mm ring
 # is measured by the side silhouette, as high as the column it frames, and so read as a
-# rim. Bench seed 1068 (4x): with the lone-column rule of _height_from_silhouette applied
+# rim. Bench seed 1068 (4x): with the lone-column rule of Columns.height applied
 # to it, the ring came out 50 mm high, the disc a 50 mm block and the brick 20 mm on it;
 # the robot could not grip the brick beside such a disc. (where, pixel noise)
 BRICK_ON_DISC = [((237, 104), 8.0), ((237, 104), 2.0), ((-100, 250), 8.0), ((0, 150), 4.0)]

@@ -167,7 +167,7 @@ def test_the_object_finder_sees_every_small_cube(side, centres, noise):
 
 # Two 12 x 12 x 110 pillars nearly in line with the side camera: their side silhouettes
 # merge and no top face shows there, so the height comes from the silhouette alone
-# (ObjectFinder._height_from_silhouette). Above a pillar everything is dark; a column
+# (objects_columns.Columns.height). Above a pillar everything is dark; a column
 # 80 mm too tall, 41 % of it background, won on "dark above it", and its top face's
 # footprint, lifted that high, landed 11 mm off (bench seed 1267: the first PICK was
 # watched at the wrong place and read as a NO-OP). (back pillar, front pillar) x, y.

@@ -21,6 +21,7 @@ import numpy as np
 from perception.vision.frames import Frame
 from perception.vision.vfd import objects_rings as rims
 from perception.vision.vfd.base import DARK_MAX, VFD
+from perception.vision.vfd.objects_columns import Columns
 from perception.vision.vfd.objects_match import SilhouetteCheck, assign, frames, nearest
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
@@ -29,12 +30,6 @@ MIN_FACE_PX = 6
 STACK_MISMATCH_MM = 8.0  # a column this far from every shape may be a stack of two
 MIN_SCORE = 0.25  # correspondence score (IoU x solid fraction) taken as a match
 CANDIDATES = 3  # side top faces refined per top-view face
-# A column read by its top edge (solid up to h, dark just above) must show a block at that
-# edge: its top COLUMN_TOP_MM solid over at least COLUMN_SOLID of their side image. Above a
-# thin pillar everything is dark, and a column 80 mm too tall outscored the pillar's own
-# height (bench 1267). Only the top is asked: lower down, a block standing on something
-# narrower overhangs background (a cube pushed to a plank's edge, fault bench 3001).
-COLUMN_SOLID, COLUMN_TOP_MM = 0.8, 15.0
 
 
 @dataclass(frozen=True)
@@ -78,8 +73,8 @@ class ObjectFinder(VFD):
                 return pairing[k]
             if k not in fallback:  # the top face is too thin to see from the side
                 rim = any(frames(faces[k], f) for j, f in enumerate(faces) if j != k)
-                fallback[k] = self._height_from_silhouette(faces[k], blobs, blob_areas, solid,
-                                                           rim)
+                fallback[k] = Columns(self.cameras, self.footprint).height(
+                    faces[k], blobs, blob_areas, solid, rim)
             return fallback[k]
 
         def cost(pairing: dict[int, tuple[float, float]]) -> int:
@@ -322,7 +317,7 @@ class ObjectFinder(VFD):
             if not counts.any():
                 return None
             iou = counts / (len(under) + areas - counts)
-            return iou * self._solid_fraction(rect, h, solid)
+            return iou * Columns(self.cameras, self.footprint).solid_fraction(rect, h, solid)
 
         best: dict[int, tuple[float, float]] = {}  # label -> (score, h) on the coarse grid
         for h in np.arange(1.0, 300.0, 2.0):
@@ -342,88 +337,3 @@ class ObjectFinder(VFD):
             hits = [h for s, h in fine if s >= top - 1e-9]
             out.append((max(sc0, top), float(np.mean(hits)), lab))
         return sorted(out, reverse=True)
-
-    def _height_from_silhouette(self, rect, blobs: np.ndarray, areas: np.ndarray,
-                                solid: np.ndarray, rim: bool = False) -> tuple[float, float]:
-        """Height whose box [footprint] x [0, h] best explains the side view.
-
-        Either the column covers one side-view silhouette (IoU), or, where the
-        silhouette runs on into a block in front of the column (a 10 mm cube behind a
-        plate's edge is one blob with it), the column is solid up to h (its top
-        COLUMN_TOP_MM at least COLUMN_SOLID) and the side image is dark just above it
-        (its top edge). A ``rim`` (a face framing another) is exempt: its column up
-        to the top of the block standing in it is hollow beside that block, and that
-        height is what makes it a rim (``objects_rings.find_rims``; bench 1068, a disc
-        under a brick).
-        """
-
-        def score(h: float) -> float:
-            """The better of the two fits at height ``h``."""
-            hull = self._column_hull(rect, h, blobs.shape)
-            if hull is None:
-                return 0.0
-            (ox, oy), mask = hull
-            under = blobs[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][mask > 0]
-            counts = np.bincount(under, minlength=2)
-            counts[0] = 0
-            best = int(counts.argmax())
-            iou = counts[best] / float(len(under) + areas[best] - counts[best])
-            top = self._solid_fraction(rect, h, solid, max(0.0, h - COLUMN_TOP_MM))
-            if top < COLUMN_SOLID and not rim:
-                return float(iou)
-            return max(iou, self._solid_fraction(rect, h, solid) * self._dark_above(
-                rect, h, solid))
-
-        coarse = [(score(h), h) for h in np.arange(1.0, 300.0, 2.0)]
-        best, h0 = max(coarse)
-        fine = [(score(h), h) for h in np.arange(h0 - 2.0, h0 + 2.01, 0.25)]
-        top_score = max(fine)[0]
-        hits = [h for sc, h in fine if sc >= top_score - 1e-9]
-        return float(np.mean(hits)), max(best, top_score)
-
-    def _column_hull(self, rect, h: float, shape, z0: float = 0.0
-                     ) -> tuple[tuple[int, int], np.ndarray] | None:
-        """Side-view mask (origin, mask) of the box [footprint at h] x [0, h], if in view."""
-        x0, y0, x1, y1 = self.footprint(rect, h)
-        corners = np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1) for z in (z0, h)])
-        uv = self.cameras["side"].project(corners)
-        ox, oy = np.floor(uv.min(axis=0)).astype(int)
-        ex, ey = np.ceil(uv.max(axis=0)).astype(int) + 1
-        if ox < 0 or oy < 0 or ex > shape[1] or ey > shape[0]:
-            return None
-        hull = cv2.convexHull(np.rint((uv - (ox, oy)) * 16).astype(np.int32))
-        mask = np.zeros((ey - oy, ex - ox), np.uint8)
-        cv2.fillConvexPoly(mask, hull, 1, cv2.LINE_8, 4)
-        return (ox, oy), mask
-
-    def _dark_above(self, rect, h: float, solid: np.ndarray) -> float:
-        """Dark fraction of the side-view band a column as tall as ``h`` + 2 px would add."""
-        grown = h + 2.0 / self.cameras["side"].mm_to_px((0.0, 200.0, h))
-        hulls = [self._column_hull(rect, z, solid.shape) for z in (h, grown)]
-        if None in hulls:
-            return 0.0
-        x0 = min(o[0] for o, _ in hulls)
-        y0 = min(o[1] for o, _ in hulls)
-        x1 = max(o[0] + m.shape[1] for o, m in hulls)
-        y1 = max(o[1] + m.shape[0] for o, m in hulls)
-        canvas = []
-        for (ox, oy), m in hulls:
-            c = np.zeros((y1 - y0, x1 - x0), bool)
-            c[oy - y0:oy - y0 + m.shape[0], ox - x0:ox - x0 + m.shape[1]] = m > 0
-            canvas.append(c)
-        band = canvas[1] & ~canvas[0]
-        n = int(band.sum())
-        if n == 0:
-            return 0.0
-        return 1.0 - float(solid[y0:y1, x0:x1][band].sum()) / n
-
-    def _solid_fraction(self, rect, h: float, solid: np.ndarray, z0: float = 0.0) -> float:
-        """Fraction of the side-view image of the column [footprint] x [z0, h] not dark."""
-        hull = self._column_hull(rect, h, solid.shape, z0)
-        if hull is None:
-            return 0.0
-        (ox, oy), mask = hull
-        inside = mask > 0
-        n = int(inside.sum())
-        return float(solid[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][inside].sum()) / n \
-            if n else 0.0
