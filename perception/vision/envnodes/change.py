@@ -276,13 +276,14 @@ class ChangeNode(EnvNodeBase):
 
         For a pick that is the object's share of the side window, less the part of it
         that blocks in front (``front``) hide: a 17 mm cube behind a two-cube stack
-        shows a third of its outline, and its pick changed 0.087 of the window against
-        0.1 asked (bench 1157, a PICK read as a NO-OP). For a place it is the
-        part of the landing box's outline that is dark in the first snapshot: where the
-        block, once set down, turns pixels bright. A tall block held above its spot is
-        already in view there, and a block put on a block lands in front of its
-        support's bright faces; a fixed share of the box would ask those small changes
-        for more pixels than they can give (issue #12, small blocks and pillars).
+        showed part of its outline, and its pick changed 0.087 of the window against
+        the 0.1 asked of a cube in plain view (bench 1157, a PICK read as a NO-OP). For
+        a place it is the part of the landing box's outline that is dark in the first
+        snapshot: where the block, once set down, turns pixels bright. A tall block held
+        above its spot is already in view there, and a block put on a block lands in
+        front of its support's bright faces; a fixed share of the box would ask those
+        small changes for more pixels than they can give (issue #12, small blocks and
+        pillars).
         """
         cam, region = self.sight.cameras["side"], shot.region
         obj = Region3D.around(region.center, size)
