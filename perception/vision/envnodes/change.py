@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from lbw_engine.model.env import EnvModel
+from lbw_engine.model.env import EnvModel, EnvNode
 from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
@@ -28,6 +28,7 @@ from perception.vision.vfd.base import (
     Region3D,
     band,
     region_mask,
+    regions_mask,
 )
 from perception.vision.vfd.change import (
     APPEARED,
@@ -188,13 +189,8 @@ class ChangeNode(EnvNodeBase):
             return tracker.holding_evidence
         window = tracker.holder.window
         own = set(env.held()) | {n.name for n in env.get(act.target)}
-        cam = self.sight.cameras["side"]
         sub = window.read(frame.view("side"))
-        known = np.zeros(sub.shape, bool)
-        for node in env.objects():
-            if node.name not in own and node.position is not None and node.size is not None:
-                known |= region_mask(cam, box(node), window)
-        clear = ~known
+        clear = ~regions_mask(self.sight.cameras["side"], _boxes_but(env, own), window)
         if clear.sum() < HOLDER_CLEAR * clear.size:
             return tracker.holding_evidence
         return float(((sub >= BLOCK_MIN) & clear).sum()) / float(clear.sum())
@@ -237,20 +233,13 @@ class ChangeNode(EnvNodeBase):
         support below it) or the hand covers it proves nothing: a block there looks the same
         whether the target left or not.
         """
-        targets = [n for n in env.get(act.target) if n.kind == "Loc" and n.position is not None
-                   and n.size is not None]
-        names = {n.name for n in targets} | set(env.held())
-        others = [n for n in env.objects() if n.name not in names and n.position is not None
-                  and n.size is not None]
+        targets = _targets(act, env)
+        others = _boxes_but(env, {n.name for n in targets} | set(env.held()))
         for view, (window,) in self.detector.windows.items():
             cam = self.sight.cameras[view]
             a, b = first.pixels[view], last.pixels[view]
-            outline = np.zeros(a.shape, bool)
-            for n in targets:
-                outline |= region_mask(cam, box(n), window)
-            cover = band(a, *HAND_BAND) | band(b, *HAND_BAND)
-            for n in others:
-                cover |= region_mask(cam, box(n), window)
+            outline = regions_mask(cam, (box(n) for n in targets), window)
+            cover = band(a, *HAND_BAND) | band(b, *HAND_BAND) | regions_mask(cam, others, window)
             area = int(outline.sum())
             if area == 0 or (cover & outline).sum() > PLAIN_VIEW * area:
                 continue
@@ -261,14 +250,12 @@ class ChangeNode(EnvNodeBase):
     def in_front(self, act: ActView, env: EnvModel) -> list[Region3D]:
         """Boxes of the other known objects standing between the side camera and the
         motion's target (nearer along y, which the side camera looks along)."""
-        targets = [n for n in env.get(act.target) if n.kind == "Loc" and n.position is not None
-                   and n.size is not None]
+        targets = _targets(act, env)
         if not targets:
             return []
-        names = {n.name for n in targets} | set(env.held())
         depth = min(box(n).lo[1] for n in targets)
-        return [box(n) for n in env.objects() if n.name not in names
-                and n.position is not None and n.size is not None and box(n).hi[1] <= depth]
+        return [b for b in _boxes_but(env, {n.name for n in targets} | set(env.held()))
+                if b.hi[1] <= depth]
 
     def threshold(self, shot: Snapshot, size: Sequence[float], place: bool = False,
                   front: Sequence[Region3D] = ()) -> float:
@@ -299,10 +286,20 @@ class ChangeNode(EnvNodeBase):
         if front:
             window = self.detector.windows["side"][0]
             outline = region_mask(cam, obj, window)
-            hidden = np.zeros(outline.shape, bool)
-            for other in front:
-                hidden |= region_mask(cam, other, window)
+            hidden = regions_mask(cam, front, window)
             total = int(outline.sum())
             if total:
                 share *= max(MIN_CHANGE_PX, int((outline & ~hidden).sum())) / total
         return float(min(AREA_THRESHOLD, share / 3.0))
+
+
+def _targets(act: ActView, env: EnvModel) -> list[EnvNode]:
+    """The motion's target blocks whose box the environment model knows."""
+    return [n for n in env.get(act.target) if n.kind == "Loc" and n.position is not None
+            and n.size is not None]
+
+
+def _boxes_but(env: EnvModel, names: set[str]) -> list[Region3D]:
+    """Boxes of the located objects not named in ``names``."""
+    return [box(n) for n in env.objects() if n.name not in names and n.position is not None
+            and n.size is not None]

@@ -11,7 +11,7 @@ Detectors never see the world: only frames, camera models and windows.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import cv2
@@ -70,6 +70,15 @@ def region_mask(cam: Camera, region: Region3D, window: Window) -> np.ndarray:
     mask = np.zeros((window.y1 - window.y0, window.x1 - window.x0), np.uint8)
     cv2.fillConvexPoly(mask, hull, 1, cv2.LINE_8, 4)
     return mask[::window.step, ::window.step] > 0
+
+
+def regions_mask(cam: Camera, regions: Iterable[Region3D], window: Window) -> np.ndarray:
+    """Boolean mask of the window's pixels inside any of the regions' projected outlines."""
+    mask = np.zeros((len(range(window.y0, window.y1, window.step)),
+                     len(range(window.x0, window.x1, window.step))), bool)
+    for region in regions:
+        mask |= region_mask(cam, region, window)
+    return mask
 
 
 def band(img: np.ndarray, lo: int, hi: int) -> np.ndarray:

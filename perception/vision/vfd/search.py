@@ -19,7 +19,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from perception.vision.frames import Frame
-from perception.vision.vfd.base import VFD, Region3D, centroid, region_mask, silhouette
+from perception.vision.vfd.base import (
+    VFD,
+    Region3D,
+    centroid,
+    region_mask,
+    regions_mask,
+    silhouette,
+)
 
 DEFAULT_REGION = (50.0, 50.0, 45.0)  # mm, footnote 6
 CYCLE_LIMIT = 4  # footnote 10
@@ -57,9 +64,7 @@ class SilFinder(VFD):
             (w,) = self.windows[view]
             cam = self.cameras[view]
             sub = w.read(frame.view(view))
-            inside = region_mask(cam, self.region, w)
-            for box in exclude:
-                inside &= ~region_mask(cam, box, w)
+            inside = region_mask(cam, self.region, w) & ~regions_mask(cam, exclude, w)
             need = self.min_area * max(1, int(inside.sum()))
             if expect is not None:
                 small = region_mask(cam, Region3D.around(self.region.center, expect), w)
