@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import cv2
 import numpy as np
@@ -48,6 +49,11 @@ class ObjectFinder(VFD):
     def process(self, frame: Frame) -> None:
         """The object-finder runs once on request: use ``find``."""
 
+    @cached_property
+    def columns(self) -> Columns:
+        """The side-view column fit of top faces (objects_columns), on these cameras."""
+        return Columns(self.cameras, self.footprint)
+
     def find(self, frame: Frame, shapes: Mapping[str, Sequence[float]]) -> list[FoundObject]:
         """Segment, correspond, measure and name every block visible in ``frame``."""
         smallest = self.smallest_face_px(shapes)
@@ -73,8 +79,7 @@ class ObjectFinder(VFD):
                 return pairing[k]
             if k not in fallback:  # the top face is too thin to see from the side
                 rim = any(frames(faces[k], f) for j, f in enumerate(faces) if j != k)
-                fallback[k] = Columns(self.cameras, self.footprint).height(
-                    faces[k], blobs, blob_areas, solid, rim)
+                fallback[k] = self.columns.height(faces[k], blobs, blob_areas, solid, rim)
             return fallback[k]
 
         def cost(pairing: dict[int, tuple[float, float]]) -> int:
@@ -201,13 +206,15 @@ class ObjectFinder(VFD):
                 low_err = fits[low_name]
                 low_size = np.array([width, shapes[low_name][1], rest])
                 low_at = (mid, cy)  # x from the front face: the upper block may stand off-centre
-            err = abs(tx - sx) + abs(ty - sy) + low_err
             if ring is None and (tx, ty) != (sx, sy):
                 # The face measured is the thin rings' outer edge, the lower block's
                 # outline: that is what it must match, not the upper block hidden inside
                 # (a cube in a block's 5 mm ring paid the 10 mm ring twice and lost to a
                 # block on a cube: rearrange 1141, 1214).
-                err = abs(shapes[low_name][0] - sx) + abs(shapes[low_name][1] - sy) + low_err
+                face_err = abs(shapes[low_name][0] - sx) + abs(shapes[low_name][1] - sy)
+            else:
+                face_err = abs(tx - sx) + abs(ty - sy)
+            err = face_err + low_err
             if best is None or err < best[0]:
                 best = (err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam)
         if best is None or ((ring is None or better) and best[0] >= obj.mismatch):
@@ -317,7 +324,7 @@ class ObjectFinder(VFD):
             if not counts.any():
                 return None
             iou = counts / (len(under) + areas - counts)
-            return iou * Columns(self.cameras, self.footprint).solid_fraction(rect, h, solid)
+            return iou * self.columns.solid_fraction(rect, h, solid)
 
         best: dict[int, tuple[float, float]] = {}  # label -> (score, h) on the coarse grid
         for h in np.arange(1.0, 300.0, 2.0):
