@@ -22,6 +22,7 @@ stack read twice.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from itertools import combinations
 from typing import Any
 
 import numpy as np
@@ -93,23 +94,19 @@ def split_rims(boxes: list[Box], skip: set[int], sliver_px: float
         near = [i for i, (h, _, r) in enumerate(boxes) if i != j and i not in skip
                 and h < h_up - 3.0 and _touches(r, up) and not holds_centre(r, up)]
         best = None
-        for a in near:
-            for b in near:
-                ha, ra = boxes[a][0], boxes[a][2]
-                hb, rb = boxes[b][0], boxes[b][2]
-                if a >= b:
-                    continue
-                for axis, centre in ((0, cx), (1, cy)):
-                    if axis == 0 and abs(ha - hb) > 3.0:
-                        continue  # a cut along y: the half behind is hidden from the side
-                    lo, hi = (ra, rb) if ra[axis] < rb[axis] else (rb, ra)
-                    across = 1 - axis
-                    overlap = min(lo[across + 2], hi[across + 2]) - max(lo[across], hi[across])
-                    short = min(lo[across + 2] - lo[across], hi[across + 2] - hi[across])
-                    if lo[axis + 2] <= centre <= hi[axis] and overlap >= 0.5 * short:
-                        rect = _union(ra, rb)
-                        if best is None or area_of(rect) > area_of(best[0]):
-                            best = (rect, (a, b))
+        for a, b in combinations(near, 2):
+            (ha, _, ra), (hb, _, rb) = boxes[a], boxes[b]
+            for axis, centre in ((0, cx), (1, cy)):
+                if axis == 0 and abs(ha - hb) > 3.0:
+                    continue  # a cut along y: the half behind is hidden from the side
+                lo, hi = (ra, rb) if ra[axis] < rb[axis] else (rb, ra)
+                across = 1 - axis
+                overlap = min(lo[across + 2], hi[across + 2]) - max(lo[across], hi[across])
+                short = min(lo[across + 2] - lo[across], hi[across + 2] - hi[across])
+                if lo[axis + 2] <= centre <= hi[axis] and overlap >= 0.5 * short:
+                    rect = _union(ra, rb)
+                    if best is None or area_of(rect) > area_of(best[0]):
+                        best = (rect, (a, b))
         if best is not None:
             out[j] = best
     return out
