@@ -14,17 +14,21 @@ from perception.vision.camera import default_cameras
 from perception.vision.vfd.objects import ObjectFinder
 from perception.vision.vfd.resources import VisionResources
 
-# (seed, workspace, noise level, expected block count, what used to go wrong[, family])
+# (seed, workspace, noise level, expected block count, what used to go wrong, family)
 ROWS = [
-    (1051, "execute", "nominal", 7, "a cube behind a cube read 13 mm tall, named disc"),
-    (1075, "teach", "nominal", 9, "a block behind a block read 20 mm tall: phantom disc"),
-    (1016, "execute", "nominal", 7, "bricks in line: back one 7 mm, front one 89 mm tall"),
-    (1022, "teach", "2x", 11, "a block behind a block: disc phantom on a 64 mm block"),
-    (1027, "teach", "nominal", 6, "a cube's face cut by a neighbour's window: phantom brick"),
-    (1076, "execute", "nominal", 9, "a disc before a beam: a near-tie check lifted it to 48 mm"),
-    (1051, "execute", "4x", 7, "the pyramid case at four times the pixel noise"),
-    (1075, "teach", "4x", 9, "the inverted-arch case at four times the pixel noise"),
-    (1003, "execute", "2x", None, "a generated workspace that always worked"),
+    (1051, "execute", "nominal", 7, "a cube behind a cube read 13 mm tall, named disc", "classic"),
+    (1075, "teach", "nominal", 9, "a block behind a block read 20 mm tall: phantom disc",
+     "classic"),
+    (1016, "execute", "nominal", 7, "bricks in line: back one 7 mm, front one 89 mm tall",
+     "classic"),
+    (1022, "teach", "2x", 11, "a block behind a block: disc phantom on a 64 mm block", "classic"),
+    (1027, "teach", "nominal", 6, "a cube's face cut by a neighbour's window: phantom brick",
+     "classic"),
+    (1076, "execute", "nominal", 9, "a disc before a beam: a near-tie check lifted it to 48 mm",
+     "classic"),
+    (1051, "execute", "4x", 7, "the pyramid case at four times the pixel noise", "classic"),
+    (1075, "teach", "4x", 9, "the inverted-arch case at four times the pixel noise", "classic"),
+    (1003, "execute", "2x", None, "a generated workspace that always worked", "classic"),
     # issue #12 class 5, stacks (bench seeds of `lbw bench --count 300 --seed 1`)
     (1139, "execute", "2x", 3, "a brick across a beam: the beam read as two bricks",
      "stacked-start"),
@@ -46,8 +50,7 @@ ROWS = [
 TOLERANCE = {1141: 7.0, 1070: 7.0, 1267: 7.0}
 
 
-@pytest.mark.parametrize(("seed", "which", "level", "count", "why", "family"),
-                         [(*r, "classic") if len(r) == 5 else r for r in ROWS],
+@pytest.mark.parametrize(("seed", "which", "level", "count", "why", "family"), ROWS,
                          ids=[f"seed{r[0]}-{r[1]}-{r[2]}" for r in ROWS])
 def test_generated_workspace_is_found_exactly(seed, which, level, count, why, family):
     truth, shapes, frame = truth_and_frame(seed, level, which, family)
