@@ -23,13 +23,18 @@ CASES = {
     # a pyramid's upper cube beside the spot grazed the held cube's footprint and hid
     # the two cubes under it (only the topmost level was tried): read as the table
     "seed1031-2x-upper-cube-beside": (1031, "2x"),
+    # the jaws closing on the ends of a 160 mm plank drew the motion-detector's point onto
+    # one jaw, and the tracker was moved there: the grip was measured 95 mm off the
+    # plank's centre, so over its pillar the plank seemed to hang beside it (the fault
+    # bench's demonstration gave no plan)
+    "fault7007-2x-tracker-onto-a-jaw": (7007, "2x", "classic"),
 }
 
 
-@pytest.mark.parametrize(("seed", "level"), list(CASES.values()), ids=list(CASES))
+@pytest.mark.parametrize("case", list(CASES.values()), ids=list(CASES))
 @pytest.mark.heavy
-def test_place_target_recognized(seed, level):
-    sc, rec, actions = watch_generated(seed, level)
+def test_place_target_recognized(case):
+    sc, rec, actions = watch_generated(*case)
     assert_sequence(sc, actions)
     assert_supports(sc, rec)
 

@@ -158,34 +158,41 @@ class HandTracker(VFD):
         carried 180 mm beam drags it 100 mm and more off the hand while the tracker is
         right. Given the ``frame``, a tracker that is tracking is therefore re-placed
         only if the hand is really there (hand-band pixels around the point in both
-        views).
+        views), and more of it than around the tracker's own point: the jaws closing on
+        the ends of a 160 mm plank move on both sides of the palm, the centre of that
+        motion falls on one jaw, and one jaw is hand-gray too (fault bench 7007: the
+        tracker was moved 90 mm onto the jaw, so the grip was measured at the plank's
+        end and its place on a pillar was taken for the table).
         """
         if xyz is None:
             return False
         if not self.tracking or self._target is None:
             self.place(xyz)
             return True
-        if np.linalg.norm(np.asarray(xyz) - self._target) > self.replace_mm and (
-                frame is None or self._hand_at(xyz, frame)):
-            self.place(xyz)
-            return True
-        return False
+        if np.linalg.norm(np.asarray(xyz) - self._target) <= self.replace_mm:
+            return False
+        if frame is not None:
+            there = self._hand_pixels(xyz, frame)
+            if min(there) < HAND_AT_PIXELS or sum(there) <= sum(
+                    self._hand_pixels(self._target, frame)):
+                return False
+        self.place(xyz)
+        return True
 
-    def _hand_at(self, xyz: Sequence[float], frame: Frame) -> bool:
-        """Whether both views show the hand's gray around ``xyz`` (a window the palm's size)."""
+    def _hand_pixels(self, xyz: Sequence[float], frame: Frame) -> list[int]:
+        """Hand-gray pixels around ``xyz`` in each view (a window the palm's size)."""
         p = np.asarray(xyz, float)
+        out = []
         for view in VIEWS:
             w, h = PALM_WIN[view]
             win = self.resources.allocate(view)
             try:
                 u, v = self.cameras[view].project(p)[0]
                 win.move_to(u, v, w, h, self.cameras[view].size)
-                if cv2.countNonZero(cv2.inRange(win.read(frame.view(view)), *HAND_BAND)) \
-                        < HAND_AT_PIXELS:
-                    return False
+                out.append(cv2.countNonZero(cv2.inRange(win.read(frame.view(view)), *HAND_BAND)))
             finally:
                 self.resources.free(win)
-        return True
+        return out
 
     def reset(self) -> None:
         """Forget the position history and stop tracking until placed again."""
