@@ -32,6 +32,11 @@ SUPPORT_SHARE = 0.3
 # is within DECIDE_MM of that level's top, and is dated back to when the waiting began.
 COMING_MM = 30.0
 DECIDE_MM = 60.0
+# The table is decided the same way: a carried block is 70-150 mm up when the hand slows
+# over its spot, and a hand pausing on its way elsewhere looks the same until then (fault
+# bench 7007: a plank held 150 mm up, its pillar still 106 mm on). A hand that went on
+# more than MOVED_ON_MM (x, y) from where it began to wait arrives where it is now.
+MOVED_ON_MM = 60.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
 MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target) lasts longer
@@ -64,8 +69,8 @@ class SearchNode(EnvNodeBase):
         self.finder = SilFinder(self.sight.cameras, self.sight.resources)
         self.limit = int(self.rules.constants["search-cycle-limit"])
         self.default = tuple(float(v) for v in self.rules.constants["attention-region"])
-        self.last: Region3D | None = None
-        self.waiting: dict[float, float] = {}  # query since -> when its search began to wait
+        # query since -> when its search began to wait, and the hand's x, y then
+        self.waiting: dict[float, tuple[float, np.ndarray]] = {}
 
     def visual_search(self, query: Query, env: EnvModel) -> Detection | None:
         """Targets found below the arriving hand and confirmed in the environment model."""
@@ -79,10 +84,15 @@ class SearchNode(EnvNodeBase):
             return None
         found = self.near(env)
         if found is WAIT:
-            if query.since not in self.waiting:
-                self.waiting = {query.since: self.sight.t}  # a new motion: older ones are over
+            if query.since not in self.waiting:  # a new motion: older ones are over
+                self.waiting = {query.since: (self.sight.t, np.array(hand.hand[:2], float))}
             return None
-        return hand.detection(found=found, t=self.waiting.get(query.since)) if found else None
+        if not found:
+            return None
+        began = self.waiting.get(query.since)
+        if began is not None and np.hypot(*(hand.hand[:2] - began[1])) > MOVED_ON_MM:
+            began = None  # it paused on the way and arrived elsewhere: it arrives now
+        return hand.detection(found=found, t=None if began is None else began[0])
 
     def leaving(self, query: Query, env: EnvModel) -> bool:
         """A hand carrying an object that has not gone anywhere since its Transfer began, or
@@ -156,12 +166,12 @@ class SearchNode(EnvNodeBase):
                     # two-cube tower, 70 mm up, was recorded on the tower's lower cube)
                     return WAIT
                 elif names:
-                    self.last = region
                     return names
             if held is not None and region.lo[2] <= 0.0:
-                if coming:
+                # the search reached the table with no block below: the table, once the
+                # held block has come down near it (a pause high on the way is not there)
+                if coming or float(held[1].lo[2]) > DECIDE_MM:
                     return WAIT
-                self.last = region  # reached the table with no block below: the table
                 return (TABLE,)
         return WAIT if coming else ()
 
