@@ -139,6 +139,28 @@ def test_a_brick_across_a_beam_is_found_on_one_beam(at, along_x, off):
         assert np.linalg.norm(np.subtract(f.position, box.center)) < 5.0, (shape, f)
 
 
+# A cube near one end of a 110 x 30 x 15 plank leaves a sliver of the plank's face at that
+# end, thinner than any top face: it was taken for the cube's own rim and read as a 14 mm
+# cube, and the rest of the face as a 71 mm plank (a user's scenario: a loaded plank
+# picked up, its rider riding along). (x, y) of the plank, along x, the cube's offset.
+RIDER_NEAR_END = [((-150, 100), True, -30), ((150, 250), True, 30), ((0, 330), True, -32),
+                  ((-200, 200), False, -30), ((100, 150), False, 30)]
+
+
+@pytest.mark.parametrize(("at", "along_x", "off"), RIDER_NEAR_END)
+def test_a_cube_near_a_planks_end_is_found_on_one_plank(at, along_x, off):
+    size = (110, 30, 15) if along_x else (30, 110, 15)
+    shapes = {"plank": size, "cube": (25, 25, 25)}
+    on = (at[0] + off, at[1]) if along_x else (at[0], at[1] + off)
+    truth = [("plank", block(*at, size)), ("cube", block(*on, shapes["cube"], 15))]
+    found = ObjectFinder(CAMS, VisionResources()).find(
+        Film(noise=2.0, seed=85).shoot([b for _, b in truth]), shapes)
+    assert sorted(f.shape for f in found) == ["cube", "plank"], found
+    for shape, box in truth:
+        f = next(f for f in found if f.shape == shape)
+        assert np.linalg.norm(np.subtract(f.position, box.center)) < 5.0, (shape, f)
+
+
 @pytest.mark.parametrize("along_x", [True, False], ids=["along-x", "along-y"])
 def test_blocks_either_side_of_a_taller_one_stay_blocks(along_x):
     """Two cubes touching a brick from both sides show what a cut rim shows from above:

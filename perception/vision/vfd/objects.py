@@ -122,8 +122,8 @@ class ObjectFinder(VFD):
         # seam and the pair fits the shapes better than the column; else the two faces
         # stay blocks of their own.
         split: dict[int, list[FoundObject]] = {}
-        for k, (rim, parts) in rims.split_rims(boxes, framing | set(rings), 0.6 * smallest
-                                               ).items():
+        for k, (rim, parts) in rims.split_rims(boxes, framing, 0.6 * smallest,
+                                               set(rings)).items():
             single, base = column(k)
             stack = self._hidden_stack(single, base, boxes[k][1][1], side_img, shapes, rim,
                                        boxes[k][2], better=True)

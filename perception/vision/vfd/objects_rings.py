@@ -70,7 +70,7 @@ def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0) -> dict
     return {j: _union(*p) if len(p) > 1 else p[0] for j, p in parts.items()}
 
 
-def split_rims(boxes: list[Box], skip: set[int], sliver_px: float
+def split_rims(boxes: list[Box], skip: set[int], sliver_px: float, ringed: set[int] = frozenset()
                ) -> dict[int, tuple[tuple, tuple[int, ...]]]:
     """Upper face -> (pixel rectangle, pieces) of a rim its block cuts in two.
 
@@ -85,13 +85,18 @@ def split_rims(boxes: list[Box], skip: set[int], sliver_px: float
     a lower block is really there is the side view's to say (a crease at the seam,
     ObjectFinder._hidden_stack): two blocks standing on either side of a taller one
     look the same from above.
+
+    ``skip``: faces that are neither; ``ringed``: faces with a rim of their own (never
+    a piece). A face whose only rim was found is a sliver beside it may still stand
+    across a longer block: the sliver is then one piece (a cube 30 mm from a 110 mm
+    plank's end left a 12 mm sliver there, read as a 14 mm cube of its own).
     """
     out: dict[int, tuple[tuple, tuple[int, ...]]] = {}
     for j, (h_up, _, up) in enumerate(boxes):
         if j in skip or _thin(up, sliver_px):
             continue
         cx, cy = (up[0] + up[2]) / 2.0, (up[1] + up[3]) / 2.0
-        near = [i for i, (h, _, r) in enumerate(boxes) if i != j and i not in skip
+        near = [i for i, (h, _, r) in enumerate(boxes) if i != j and i not in ringed
                 and h < h_up - 3.0 and _touches(r, up) and not holds_centre(r, up)]
         best = None
         for a, b in combinations(near, 2):
