@@ -32,6 +32,9 @@ CASES = {
     # decided there, and the place where the hand went on to became a NO-OP
     "seed1026-4x-pause-on-the-way": (1026, "4x", "three-supports"),
     "seed1002-4x-pause-on-the-way": (1002, "4x", "classic"),
+    # ... and while the table waited, a cube set down 5 mm beside another drifted to
+    # within 8 mm of it low down and was recorded on it
+    "seed1104-4x-beside-while-the-table-waits": (1104, "4x", "stacked-start"),
 }
 
 

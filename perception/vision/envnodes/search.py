@@ -69,8 +69,10 @@ class SearchNode(EnvNodeBase):
         self.finder = SilFinder(self.sight.cameras, self.sight.resources)
         self.limit = int(self.rules.constants["search-cycle-limit"])
         self.default = tuple(float(v) for v in self.rules.constants["attention-region"])
-        # query since -> when its search began to wait, and the hand's x, y then
-        self.waiting: dict[float, tuple[float, np.ndarray]] = {}
+        # query since -> when its search began to wait, the hand's x, y then, and whether
+        # it waits for the held block to come down to the table (below)
+        self.waiting: dict[float, tuple[float, np.ndarray, bool]] = {}
+        self.table_pending = False
 
     def visual_search(self, query: Query, env: EnvModel) -> Detection | None:
         """Targets found below the arriving hand and confirmed in the environment model."""
@@ -82,16 +84,18 @@ class SearchNode(EnvNodeBase):
             return None
         if self.leaving(query, env):
             return None
+        began = self.waiting.get(query.since)
+        if began is not None and np.hypot(*(hand.hand[:2] - began[1])) > MOVED_ON_MM:
+            began = None  # it paused on the way and went on: it arrives somewhere else
+        self.table_pending = began is not None and began[2]
         found = self.near(env)
-        if found is WAIT:
-            if query.since not in self.waiting:  # a new motion: older ones are over
-                self.waiting = {query.since: (self.sight.t, np.array(hand.hand[:2], float))}
+        if found is WAIT or found is LOW:
+            if began is None:  # a new wait (older motions are over)
+                began = (self.sight.t, np.array(hand.hand[:2], float), False)
+            self.waiting = {query.since: (*began[:2], began[2] or found is LOW)}
             return None
         if not found:
             return None
-        began = self.waiting.get(query.since)
-        if began is not None and np.hypot(*(hand.hand[:2] - began[1])) > MOVED_ON_MM:
-            began = None  # it paused on the way and arrived elsewhere: it arrives now
         return hand.detection(found=found, t=None if began is None else began[0])
 
     def leaving(self, query: Query, env: EnvModel) -> bool:
@@ -170,9 +174,9 @@ class SearchNode(EnvNodeBase):
             if held is not None and region.lo[2] <= 0.0:
                 # the search reached the table with no block below: the table, once the
                 # held block has come down near it (a pause high on the way is not there)
-                if coming or float(held[1].lo[2]) > DECIDE_MM:
+                if coming:
                     return WAIT
-                return (TABLE,)
+                return LOW if float(held[1].lo[2]) > DECIDE_MM else (TABLE,)
         return WAIT if coming else ()
 
     def grasped(self, hits: Sequence[EnvNode], env: EnvModel) -> tuple[str, ...]:
@@ -219,13 +223,14 @@ class SearchNode(EnvNodeBase):
             hits = [n for n in hits if n not in level]
             if float(held.lo[2]) < top - TOP_TOLERANCE_MM:
                 continue  # the held block is already below its top: it comes down beside it
-            verdict = self._level(level, held, top)
+            verdict = self._level(level, held, top, self.table_pending)
             if verdict is not None:
                 return verdict
         return ()
 
     @staticmethod
-    def _level(level: list[EnvNode], held: Region3D, top: float) -> tuple[str, ...] | None:
+    def _level(level: list[EnvNode], held: Region3D, top: float, strict: bool = False
+               ) -> tuple[str, ...] | None:
         """One level's verdict: its blocks under the held one, WAIT, or None (beside it).
 
         A support is under the held block: a block of the level that the held footprint
@@ -235,6 +240,10 @@ class SearchNode(EnvNodeBase):
         level's narrower side, at most SUPPORT_TOLERANCE_MM): a hand coming in over a
         small neighbour passes over it (issue #12). Only a level no wider than the held
         block asks this: over a wider one (a tower's cube) the hand is where it will land.
+        Low down, a centre up to ``reach`` outside the level still lands on it, unless
+        ``strict``: the search is already waiting for the table there, and a block the
+        held one comes down beside must not win by the hand's drift (bench 1104, 4x: a
+        cube set down 5 mm beside another was recorded on it).
         """
         high = float(held.lo[2]) - top > DECIDE_MM
         reach = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * float(min(held.size[:2])))
@@ -248,7 +257,7 @@ class SearchNode(EnvNodeBase):
         narrow = float(np.min(hi - lo))
         inside = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * narrow) \
             if narrow <= float(min(held.size[:2])) else 0.0
-        if out <= -inside or (out <= reach and not high):
+        if out <= -inside or (out <= reach and not high and not strict):
             return tuple(n.name for n in under)
         return WAIT if out <= COMING_MM and high else None
 
@@ -260,3 +269,4 @@ def _gap(a: Region3D, b: Region3D) -> float:
 
 
 WAIT: tuple[str, ...] = ("",)  # no decision yet (a held block coming in beside a level)
+LOW: tuple[str, ...] = ("", "")  # nothing below but the table, and the held block still high
