@@ -89,19 +89,32 @@ def compare_with_truth(scenario: Any, actions: dict[str, Any], rules: RuleSet
 
 
 def foreign_objects(scenario: Any, actions: dict[str, Any]) -> str | None:
-    """The first object the operations act on that the teach workspace does not hold, with
-    that name and shape (evaluation only: the recognizer names what it finds after the
-    teach objects, perception.vision.envnodes.objects); None when all are there."""
+    """The first object the operations act on, or their states relate, that the teach
+    workspace does not hold with that name and shape (evaluation only: the recognizer
+    names what it finds after the teach objects, perception.vision.envnodes.objects);
+    None when all are there. A block the finder split in two moves with its rider in
+    the states only, and the plan then names the piece (a user's loaded plank)."""
     teach = {n: o.shape for n, o in scenario.teach.objects.items()}
     found = actions.get("objects", {})
     for op in actions["operations"]:
-        for name in (*op.get("target", ()), *op.get("special", ())):
+        for name in _named(op):
             if name in RESERVED or teach.get(name) == found.get(name, {}).get("shape"):
                 continue
             shape = found.get(name, {}).get("shape", "?")
             return (f"{op.get('name', op['operation'])}: the object '{name}' ({shape}) that "
-                    "it acts on is not in the teach workspace (the object-finder misread it)")
+                    "it acts on or relates is not in the teach workspace (the object-finder "
+                    "misread it)")
     return None
+
+
+def _named(op: dict[str, Any]) -> list[str]:
+    """Every object name an operation acts on (target, special) or its states relate."""
+    names = [*op.get("target", ()), *op.get("special", ())]
+    for state in ("initial_state", "final_state"):
+        for rel in (op.get(state) or {}).get("relations", ()):
+            for arg in rel[1:3]:
+                names += arg if isinstance(arg, list) else [arg]
+    return [n for n in names if isinstance(n, str)]
 
 
 def with_repair(recognition: dict[str, Any], repaired: Any) -> dict[str, Any]:
