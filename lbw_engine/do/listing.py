@@ -30,7 +30,7 @@ def format_commands(tr: Trace, title: str = "") -> str:
             lines.append(f"<<{op.operator_class.capitalize()}>> {op.operator}")
             last_op, last_goal = op.operator, None
         done = 0
-        for note, count in op.aside:  # blocks set aside before the pick (clearing.py)
+        for note, count, _, _ in op.aside:  # blocks set aside before the pick (clearing.py)
             lines += [f" ; {note}", " <set-aside>"]
             lines.extend(f" {c.text()}" for c in op.commands[done:done + count])
             done += count

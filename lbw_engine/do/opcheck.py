@@ -31,6 +31,7 @@ from typing import Any
 from lbw_engine.do.tracing import TracedOp
 
 PLACE_MM = 40.0  # a place seen farther than this (x, y) from its executed goal was elsewhere
+SET_ASIDE = "set aside"  # how reports name the moves of a block put down out of the way
 
 
 @dataclass(frozen=True)
@@ -66,10 +67,18 @@ def moving_operations(effects: Mapping[str, Any]) -> dict[str, tuple[str, str, s
 
 def executed_ops(ops: Sequence[TracedOp], moving: Mapping[str, tuple]) -> list[Op]:
     """The unit's executed operations that move an object, in order (skipped ones left out);
-    a place's ``at`` is its goal."""
-    return [Op(o.operation, o.focus, moving[o.operation][0],
-               _xy(o.goal) if moving[o.operation][2] else None)
-            for o in ops if o.operation in moving and not o.skipped]
+    a place's ``at`` is its goal. A block set aside before an operation (a rider the plan
+    does not carry, a regrasp: clearing.py) was taken and put down on the table first."""
+    out = []
+    for o in ops:
+        if o.skipped:
+            continue
+        for _, _, name, spot in o.aside:
+            out += [Op(SET_ASIDE, name, "follow"), Op(SET_ASIDE, name, "place", _xy(spot))]
+        if o.operation in moving:
+            out.append(Op(o.operation, o.focus, moving[o.operation][0],
+                          _xy(o.goal) if moving[o.operation][2] else None))
+    return out
 
 
 def recognized_ops(nodes: Sequence[Any], moving: Mapping[str, tuple]) -> list[Op]:

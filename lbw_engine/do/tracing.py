@@ -56,7 +56,8 @@ class TracedOp:
     fine: str | None = None  # the place's fine motion: "slide" | "push" (fine.py)
     alignment: Alignment | None = None  # faces the place makes coplanar (verification)
     skipped: str | None = None  # a harmless leaf left out, and why
-    aside: list[tuple[str, int]] = field(default_factory=list)  # set-asides first: why, count
+    # blocks put down first (clearing.py): why, how many commands, which block, where (x, y)
+    aside: list[tuple[str, int, str, tuple[float, float]]] = field(default_factory=list)
 
 
 @dataclass
@@ -219,17 +220,18 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
             if place.push_from is not None:
                 ctx.fine.update({"push-from": place.push_from, "push-to": place.push_to})
                 ctx.pushed = (focus, goal)
-    cmds = [c for _, done in aside for c in done] + expander.run(steps, ctx)
+    cmds = [c for _, done, _, _ in aside for c in done] + expander.run(steps, ctx)
     arm_goal = rules.arm_frame.to_arm(ctx.goal) if ctx.goal is not None else None
     return TracedOp(op.name, op.cls, leaf, operation, focus, goal, arm_goal, cmds, moved,
                     wrist=ctx.wrist if focus is not None else None,
                     fine=place.kind if place is not None and place.set_down else None,
                     alignment=place.alignment if place is not None else None,
-                    aside=[(note, len(done)) for note, done in aside])
+                    aside=[(note, len(done), name, (spot[0], spot[1]))
+                           for note, done, name, spot in aside])
 
 
 def _set_aside(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
-               focus: str, where: str) -> list[tuple[str, list[Command]]]:
+               focus: str, where: str) -> list[tuple[str, list[Command], str, Vec]]:
     """Put each block that rests on ``focus`` unplanned on the table first (clearing.py)."""
     out = []
     for name in clearing.unplanned_riders(plan, focus, rules, model):
@@ -240,12 +242,13 @@ def _set_aside(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
         start = len(expander.emitted)
         spot = _put_down(sa, rules, model, expander, where)
         out.append((f"'{name}' rests on '{focus}' where the plan does not put it: set aside "
-                    f"at {mm(spot)}", expander.emitted[start:]))
+                    f"at {mm(spot)}", expander.emitted[start:], name, spot))
     return out
 
 
 def _regrasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
-             focus: str, exc: grasp.NoCommonGrip, where: str) -> tuple[str, list[Command]]:
+             focus: str, exc: grasp.NoCommonGrip, where: str
+             ) -> tuple[str, list[Command], str, Vec]:
     """Put ``focus`` down where it can be taken the way its place needs (clearing.py)."""
     sa = clearing.plan_regrasp(plan, focus, exc.picks, exc.places, rules, model)
     if sa is None:
@@ -253,7 +256,8 @@ def _regrasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expande
     start = len(expander.emitted)
     spot = _put_down(sa, rules, model, expander, where)
     return (f"no one way of closing the jaws serves both where '{focus}' is and where it "
-            f"goes: put down at {mm(spot)} to be taken again", expander.emitted[start:])
+            f"goes: put down at {mm(spot)} to be taken again", expander.emitted[start:], focus,
+            spot)
 
 
 def _put_down(sa: clearing.SetAside, rules: CommandRules, model: EnvModel,

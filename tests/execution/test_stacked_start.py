@@ -42,6 +42,8 @@ def test_stacked_start_executes_and_verifies(monkeypatch, name, aside, supports)
     plan = planmod.load(DATA / f"{name}.plan.json")
     result = execute.execute_plan(plan, load(DATA / f"{name}.yaml"), RULES)
     assert result.success, result.message
-    set_aside = [note.split("'")[1] for op in result.trace.ops for note, _ in op.aside]
+    set_aside = [note.split("'")[1] for op in result.trace.ops for note, *_ in op.aside]
     assert set_aside == aside
     assert result.trace.model.final_supports(list(supports)) == supports
+    # the robot watching itself expects the blocks it sets aside: nothing went wrong
+    assert result.report["monitor"]["detections"] == []
