@@ -33,9 +33,10 @@ SUPPORT_SHARE = 0.3
 COMING_MM = 30.0
 DECIDE_MM = 60.0
 # The table is decided the same way: a carried block is 70-150 mm up when the hand slows
-# over its spot, and a hand pausing on its way elsewhere looks the same until then (fault
-# bench 7007: a plank held 150 mm up, its pillar still 106 mm on). A hand that went on
-# more than MOVED_ON_MM (x, y) from where it began to wait arrives where it is now.
+# over its spot, and a hand pausing on its way elsewhere looks the same until then (bench
+# 1002 and 1026 at 4x: the table was decided at such a pause, and the place the hand went
+# on to became a NO-OP). A hand that went on more than MOVED_ON_MM (x, y) from where it
+# began to wait arrives where it is now.
 MOVED_ON_MM = 60.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
