@@ -98,9 +98,11 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
         model = _model(taught, sc.shapes, matching, measured, ruleset)
         fresh = copy.deepcopy(model) if via == "bt" else None
-        trace(plan, rules, copy.deepcopy(model))  # a plan that cannot be traced fails here
+        planned = trace(plan, rules, copy.deepcopy(model))  # one that cannot be traced fails
     except TaskFailed as exc:
-        report.update(stage="instantiation", failure=f"instantiation: {exc}", mismatches=[])
+        # nothing was executed, so there is nothing to verify (design.md: null)
+        report.update(stage="instantiation", failure=f"instantiation: {exc}", mismatches=[],
+                      verification=None)
         return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report, None, views,
                                "instantiation")
     shape_of = {n: taught[n]["shape"] for n in matching.assigned}
@@ -128,7 +130,9 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
             log, model = robot.log, tr.model
     except TaskFailed as exc:
         report.update(stage="execution", failure=f"execution: {exc}", mismatches=[],
-                      faults=injector.injected, ground_truth_toppled=_toppled(world))
+                      faults=injector.injected, ground_truth_toppled=_toppled(world),
+                      verification=_stopped_verdict(planned, robot, eyes, world, sc, shape_of,
+                                                    rules))
         return ExecutionResult(False, str(exc), f";;; stopped: {exc}\n", report, None, views,
                                "execution")
     names = list(matching.assigned)
@@ -165,6 +169,25 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     title = f"plan {plan.root} in {sc.name}"
     return ExecutionResult(verdict.success, msg, format_commands(tr, title), report, tr, views,
                            None if verdict.success else "verification")
+
+
+def _stopped_verdict(planned: Trace, robot: Any, eyes: Eyes, world: Any, sc: Any,
+                     shape_of: dict[str, str], rules: Any) -> dict[str, bool] | None:
+    """Both verdicts on a run that stopped: the cameras and the simulator compare what
+    stands with the plan's traced final state (the structure is unfinished, so they
+    normally both say no). None if the workspace cannot be looked at any more."""
+    names = list(shape_of)
+    expected, supports = planned.model.settled(names), planned.model.final_supports(names)
+    fine = {"alignments": planned.alignments, "coplanar_tolerance": rules.fine.coplanar_tolerance}
+    try:
+        step_aside(robot, rules)
+        robot.settle(SETTLE_S)
+        verdict, _ = camera_verdict(eyes, expected, supports, rules.support_relations, fine)
+    except TaskFailed:
+        return None
+    truth = verify(expected, supports, _final_state(world, sc, expected, shape_of),
+                   rules.support_relations, **fine)
+    return {"cameras": verdict.success, "ground_truth": truth.success}
 
 
 def _toppled(world: Any) -> list[str]:

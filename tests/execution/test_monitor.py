@@ -73,6 +73,8 @@ def test_a_removed_object_without_a_spare_ends_the_run_naming_it(tmp_path, capsy
     assert [d["object"] for d in report["monitor"]["detections"]] == ["top1"]
     assert report["monitor"]["repairs"] == []
     assert "top1" in err
+    # both verdicts on what stands when the run stopped: the structure is unfinished
+    assert report["verification"] == {"cameras": False, "ground_truth": False}
 
 
 def test_no_detection_without_faults(tmp_path, capsys):
