@@ -8,7 +8,12 @@ ends), using only frames up to the one it is decided on.
 
 from __future__ import annotations
 
+from pathlib import Path
+
+from .generated import assert_sequence, watch_file
+
 SCENARIO = "place-and-align"
+DATA = Path(__file__).parent / "data"
 
 
 def _fine_names(op: dict) -> list[str]:
@@ -31,3 +36,13 @@ def test_align_names_the_block_it_lines_up_with(watched):
     place = next(op for op in w.actions["operations"] if "ALIGN" in _fine_names(op))
     relations = place["final_state"]["relations"]
     assert ["coplanar", "block2", "block1"] in relations
+
+
+def test_a_block_set_down_flush_without_a_slide_is_no_align():
+    """ALIGN is a slide (Sec. V-B5): cubes put down in line at their own positions are
+    placed, not aligned, though their west faces end coplanar (CoplanarNode.compare)."""
+    sc, _, actions = watch_file(DATA / "row-flush-y.yaml")
+    assert_sequence(sc, actions)
+    fine = [f["operation"] for op in actions["operations"] if op["special"]
+            for f in op["fine"]]
+    assert fine == ["NO-OP"] * 3

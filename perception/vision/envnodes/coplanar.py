@@ -9,6 +9,7 @@ appeared (ALIGN), -1 when one was lost, 0 otherwise, and names the neighbours.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from lbw_engine.model.env import EnvModel
@@ -20,6 +21,12 @@ from perception.vision.vfd.coplanar import CoplanarDetector
 
 CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for CoplDet)
 MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
+# ALIGN is a slide (Sec. V-B5): a block let go within SLID_MM (x, y) of where it came down
+# was put in line, not slid into it. The first snapshot is taken with the block still in
+# the air, where no face pair is judged, so every block set down flush with a neighbour
+# read as an ALIGN (a user's row of cubes 5 mm apart along y). Demonstrated aligns set
+# the block down 8 mm and more from its neighbour (the generator's align family).
+SLID_MM = 4.0
 
 
 
@@ -42,7 +49,7 @@ class CoplanarNode(EnvNodeBase):
         # where the hand let go of it (or holds it now): it stays there (Sec. V-B5)
         held = self.hand.held_box(env, at=self.hand.let_go(act.since))
         if held is None or self.sight.frame is None:
-            return {"pairs": set(), "hidden": False}
+            return {"pairs": set(), "hidden": False, "at": None}
         node, a = held
         out, hidden = set(), False
         for other in env.objects():
@@ -65,7 +72,7 @@ class CoplanarNode(EnvNodeBase):
                     if seen:
                         out.add((other.name, face))
         self.detector.free()
-        return {"pairs": out, "hidden": hidden}
+        return {"pairs": out, "hidden": hidden, "at": (float(a.center[0]), float(a.center[1]))}
 
     def snapshot(self, act: ActView, env: EnvModel) -> Any:
         """Coplanar face pairs now."""
@@ -77,12 +84,18 @@ class CoplanarNode(EnvNodeBase):
         return bool(last and last["hidden"])
 
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
-        """positive: a coplanar pair appeared; negative: one was lost; else unchanged."""
+        """positive: a coplanar pair appeared as the block slid; negative: one was lost;
+        else unchanged."""
+        start = first.get("at") if first else None
+        end = last.get("at") if last else None
         first = first["pairs"] if first else set()
         last = last["pairs"] if last else set()
-        sign = 1 if last - first else -1 if first - last else 0
+        appeared = last - first
+        if start is not None and end is not None and math.dist(start, end) < SLID_MM:
+            appeared = set()  # put down flush where it came down: not slid into line
+        sign = 1 if appeared else -1 if first - last else 0
         # the neighbours whose faces became coplanar with the moved block's (ALIGN's `found`)
-        found = tuple(sorted({name for name, _ in last - first}))
+        found = tuple(sorted({name for name, _ in appeared}))
         return Detection(value=sign, found=found)
 
 
