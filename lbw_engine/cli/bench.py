@@ -179,7 +179,8 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
         rec["execute_seconds"] = result.seconds["execute"]
         rec["execution_success"] = bool(result.execution.success)
         checks = result.execution.report.get("verification")
-        if isinstance(checks, dict):  # the cameras' verdict against the simulator's
+        if isinstance(checks, dict) and result.execution.report.get("stage") == "verification":
+            # the cameras' verdict against the simulator's, on a finished run
             rec["verdicts_agree"] = checks["cameras"] == checks["ground_truth"]
     failure = first_failure(result.phases, wrong)
     if failure is not None:

@@ -201,7 +201,8 @@ def _execute(rec: dict[str, Any], text: str, faults: list[str], extra: str, plan
     result = execute_plan(plan, sc, rules)
     rep = result.report
     rec.update(success=bool(result.success), failure=rep.get("failure"),
-               verification=rep.get("verification"), faults=rep.get("faults", []),
+               verification=rep.get("verification"), stage=rep.get("stage"),
+               faults=rep.get("faults", []),
                detections=rep.get("monitor", {}).get("detections", []),
                repairs=rep.get("monitor", {}).get("repairs", []),
                toppled=rep.get("ground_truth_toppled", []))
@@ -242,7 +243,10 @@ def summarize_faults(records: list[dict[str, Any]]) -> dict[str, Any]:
     injected = [f for r in runs for f in r["faults"] if f["relevant"]]
     repairable = [r for r in faulty if r["repairable"]]
     unrepaired = [r for r in faulty if not r["success"]]
-    verdicts = [r for r in runs if isinstance(r.get("verification"), dict)]
+    # agreement is scored where a finished run was verified (a stopped run's two "no"s
+    # would only inflate it); records before the stage was kept have no stage
+    verdicts = [r for r in runs if isinstance(r.get("verification"), dict)
+                and r.get("stage", "verification") == "verification"]
     return {
         "runs": len(records), "crashed": sum(1 for r in records if "error" in r),
         "plans_not_executable": len(wrong_plans),

@@ -100,9 +100,9 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         fresh = copy.deepcopy(model) if via == "bt" else None
         planned = trace(plan, rules, copy.deepcopy(model))  # one that cannot be traced fails
     except TaskFailed as exc:
-        # nothing was executed, so there is nothing to verify (design.md: null)
+        # nothing was executed: the plan's structure is not there (design.md: booleans)
         report.update(stage="instantiation", failure=f"instantiation: {exc}", mismatches=[],
-                      verification=None)
+                      verification={"cameras": False, "ground_truth": False})
         return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report, None, views,
                                "instantiation")
     shape_of = {n: taught[n]["shape"] for n in matching.assigned}
@@ -129,22 +129,18 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
             tr, report["ticks"] = run_tree(plan, rules, fresh, robot.execute)
             log, model = robot.log, tr.model
     except TaskFailed as exc:
+        stopped = _stopped_verdict(planned, robot, eyes, world, sc, shape_of, rules)
         report.update(stage="execution", failure=f"execution: {exc}", mismatches=[],
                       faults=injector.injected, ground_truth_toppled=_toppled(world),
-                      verification=_stopped_verdict(planned, robot, eyes, world, sc, shape_of,
-                                                    rules))
+                      verification=stopped)
         return ExecutionResult(False, str(exc), f";;; stopped: {exc}\n", report, None, views,
                                "execution")
     names = list(matching.assigned)
     expected = model.settled(names)
     expected_sup = model.final_supports(names)
-    step_aside(robot, rules)  # the cameras must see the structure, not the gripper
-    robot.settle(SETTLE_S)
-    fine = {"alignments": tr.alignments, "coplanar_tolerance": rules.fine.coplanar_tolerance}
-    verdict, seen = camera_verdict(eyes, expected, expected_sup, rules.support_relations, fine)
+    verdict, seen, truth = _verdicts(robot, eyes, world, sc, shape_of, rules, expected,
+                                     expected_sup, tr.alignments)
     views["execution-final"] = eyes.last_images  # the views the verdict was read from
-    truth = verify(expected, expected_sup, _final_state(world, sc, expected, shape_of),
-                   rules.support_relations, **fine)
     report.update(verdict.to_json())
     report.update(
         stage="verification",
@@ -171,22 +167,32 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
                            None if verdict.success else "verification")
 
 
-def _stopped_verdict(planned: Trace, robot: Any, eyes: Eyes, world: Any, sc: Any,
-                     shape_of: dict[str, str], rules: Any) -> dict[str, bool] | None:
-    """Both verdicts on a run that stopped: the cameras and the simulator compare what
-    stands with the plan's traced final state (the structure is unfinished, so they
-    normally both say no). None if the workspace cannot be looked at any more."""
-    names = list(shape_of)
-    expected, supports = planned.model.settled(names), planned.model.final_supports(names)
-    fine = {"alignments": planned.alignments, "coplanar_tolerance": rules.fine.coplanar_tolerance}
-    try:
-        step_aside(robot, rules)
-        robot.settle(SETTLE_S)
-        verdict, _ = camera_verdict(eyes, expected, supports, rules.support_relations, fine)
-    except TaskFailed:
-        return None
+def _verdicts(robot: Any, eyes: Eyes, world: Any, sc: Any, shape_of: dict[str, str],
+              rules: Any, expected: dict[str, Any], supports: dict[str, tuple],
+              alignments: list) -> tuple[Any, Any, Any]:
+    """The arm steps out of view, the world settles, and the cameras (the verdict, what
+    they saw) and the simulator (evaluation only) compare what stands with ``expected``."""
+    step_aside(robot, rules)  # the cameras must see the structure, not the gripper
+    robot.settle(SETTLE_S)
+    fine = {"alignments": alignments, "coplanar_tolerance": rules.fine.coplanar_tolerance}
+    verdict, seen = camera_verdict(eyes, expected, supports, rules.support_relations, fine)
     truth = verify(expected, supports, _final_state(world, sc, expected, shape_of),
                    rules.support_relations, **fine)
+    return verdict, seen, truth
+
+
+def _stopped_verdict(planned: Trace, robot: Any, eyes: Eyes, world: Any, sc: Any,
+                     shape_of: dict[str, str], rules: Any) -> dict[str, bool]:
+    """Both verdicts on a run that stopped: what stands against the plan's traced final
+    state (the structure is unfinished, so they normally both say no). A block still in
+    the jaws is not where the plan puts it, and stepping aside would carry it through
+    the structure: both say no without looking."""
+    if robot.gripper.holding:
+        return {"cameras": False, "ground_truth": False}
+    names = list(shape_of)
+    verdict, _, truth = _verdicts(robot, eyes, world, sc, shape_of, rules,
+                                  planned.model.settled(names),
+                                  planned.model.final_supports(names), planned.alignments)
     return {"cameras": verdict.success, "ground_truth": truth.success}
 
 

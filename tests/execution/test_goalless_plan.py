@@ -28,7 +28,7 @@ def test_missing_goal_fails_the_task(tmp_path):
     assert not result.success
     assert "none of its goal sources" in result.message
     assert result.report["stage"] == "instantiation"
-    assert result.report["verification"] is None  # nothing was executed to verify
+    assert result.report["verification"] == {"cameras": False, "ground_truth": False}
 
 
 def test_cli_exit_code_is_one(tmp_path, capsys):
