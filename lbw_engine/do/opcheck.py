@@ -17,7 +17,9 @@ effect's ``measured`` feature) within PLACE_MM of the executed goal, in x and
 y (a block dropped on the way is seen put down elsewhere). Which operations
 those are, their
 classes and the effect variable that names the moved object are read from the
-rules; no operation name is written here.
+rules; no operation name is written here. Blocks set aside before an operation
+(clearing.py) are expected as one move of each class, labelled ``SET_ASIDE``
+in reports.
 """
 
 from __future__ import annotations

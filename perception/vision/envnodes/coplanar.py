@@ -4,7 +4,8 @@ A FineMotion's snapshots list the (neighbour, face) pairs whose vertical faces
 are coplanar with the moved block's, judged from edge junctions in the image
 (perception/vision/vfd/coplanar.py); the comparison answers the temporal
 difference of the truth value (Table V caption): 1 when a coplanar pair
-appeared (ALIGN), -1 when one was lost, 0 otherwise, and names the neighbours.
+appeared as the block slid (ALIGN; ``SLID_MM``), -1 when one was lost, 0
+otherwise, and names the neighbours.
 """
 
 from __future__ import annotations

@@ -86,10 +86,11 @@ def split_rims(boxes: list[Box], skip: set[int], sliver_px: float, ringed: set[i
     ObjectFinder._hidden_stack): two blocks standing on either side of a taller one
     look the same from above.
 
-    ``skip``: faces that are neither; ``ringed``: faces with a rim of their own (never
-    a piece). A face whose only rim was found is a sliver beside it may still stand
-    across a longer block: the sliver is then one piece (a cube 30 mm from a 110 mm
-    plank's end left a 12 mm sliver there, read as a 14 mm cube of its own).
+    ``skip``: faces never cut across (rims), though they may be pieces; ``ringed``:
+    faces with a rim of their own, never pieces. A face with a rim may still stand
+    across a longer block, its rim a sliver at one end that is then one piece (a
+    cube 30 mm off a 110 mm plank's centre left a 12.5 mm sliver at its end, read as
+    a 14 mm cube of its own).
     """
     out: dict[int, tuple[tuple, tuple[int, ...]]] = {}
     for j, (h_up, _, up) in enumerate(boxes):
