@@ -55,12 +55,13 @@ def choose(focus: str, centre: Vec, rules: CommandRules, model: EnvModel,
         return rules.jaw_axes[0], 0.0
     pushed: Grip | None = None
     picks: list[Grip] = []
-    pick_hit = place_why = None
+    pick_hits: dict[int, str] = {}  # jaw axis -> the first object in the way
+    place_why = None
     for axis in fits:
         for off in jaws.offsets(size, axis, rules):
             hit = jaws.blocker(focus, centre, axis, off, rules, model)
             if hit is not None:
-                pick_hit = pick_hit or hit
+                pick_hits.setdefault(axis, hit)
                 continue
             picks.append((axis, off))
             ahead = place(axis, off) if place is not None else None
@@ -82,9 +83,14 @@ def choose(focus: str, centre: Vec, rules: CommandRules, model: EnvModel,
         if places:
             raise NoCommonGrip(message, picks, places)
         raise TaskFailed(message)
-    b = model.bodies[pick_hit]
+    if len(set(pick_hits.values())) == 1:
+        name = next(iter(pick_hits.values()))
+        where = f"'{name}' at {_mm(model.bodies[name].position)} whichever way the jaws close"
+    else:  # each way has its own obstacle: name both
+        where = ", and ".join(f"'{n}' at {_mm(model.bodies[n].position)} closing along "
+                              f"{jaws.AXIS_NAMES[a]}" for a, n in pick_hits.items())
     raise TaskFailed(f"the gripper cannot hold '{focus}' at {_mm(centre)}: a jaw would hit "
-                     f"'{pick_hit}' at {_mm(b.position)} whichever way the jaws close")
+                     f"{where}")
 
 
 def _mm(v: Vec) -> str:

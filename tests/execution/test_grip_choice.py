@@ -46,7 +46,11 @@ GRIPS = [
     ("neighbour-6mm-along-x-turns-the-wrist", _cube_with((46.0, 200.0)), (1, 0.0)),
     ("neighbour-6mm-along-y-keeps-x", _cube_with((0.0, 246.0)), (0, 0.0)),
     ("boxed-in-both-ways", _cube_with((46.0, 200.0), (0.0, 246.0)),
-     "a jaw would hit 'n0' at (46, 200, 20) mm whichever way the jaws close"),
+     "a jaw would hit 'n0' at (46, 200, 20) mm closing along x, and 'n1' at (0, 246, 20) mm "
+     "closing along y"),
+    ("under-a-table-top", model_of({"a": (CUBE, (0.0, 200.0, 0.0)),
+                                    "n0": ((200.0, 200.0, 10.0), (0.0, 200.0, 60.0))}),
+     "a jaw would hit 'n0' at (0, 200, 65) mm whichever way the jaws close"),
     ("plank-160-taken-across-its-60", model_of({"a": ((160.0, 60.0, 20.0), (0, 200, 0))}),
      (1, 0.0)),
     ("plate-200-too-wide-both-ways", model_of({"a": ((200.0, 180.0, 10.0), (0, 200, 0))}),
