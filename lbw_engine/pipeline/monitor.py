@@ -177,7 +177,7 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         out.detections.extend(seen_ops)
         # A place the watch did not see is redone once, however well the object landed;
         # a second miss on the same object is the recognizer's, not the robot's.
-        dropped = missed - suspected
+        dropped = (missed & set(eyes.shape_of)) - suspected  # plan objects only
         suspected |= dropped
         seen = eyes.look(unit.expected)
         out.spans.append({"operator": unit.operator, "t_start": round(t0, 2),

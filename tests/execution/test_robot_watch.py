@@ -12,7 +12,14 @@ from pathlib import Path
 import pytest
 
 from lbw_engine.cli import main
-from lbw_engine.do.opcheck import PLACE_MM, Op, differences, moving_operations, unplaced
+from lbw_engine.do.opcheck import (
+    PLACE_MM,
+    SET_ASIDE,
+    Op,
+    differences,
+    moving_operations,
+    unplaced,
+)
 from lbw_engine.paths import bundled_scenario
 from lbw_engine.rules import load_rules
 
@@ -46,6 +53,18 @@ CASES = [
                  [("a", "PLACE-ON-TABLE a at (0, 100)",
                    f"PLACE-ON-TABLE a at ({PLACE_MM + 5:.0f}, 100)")],
                  {"a"}, id="placed-elsewhere"),
+    # a block set aside (no plan object) is expected if seen, not required, never redone
+    # (lbw bench 1107 at 4x: the watch missed a tile's set-aside, and the redo looked up
+    # the tile's shape and crashed)
+    pytest.param([Op(SET_ASIDE, "u", "follow"), Op(SET_ASIDE, "u", "place", (0.0, 50.0)),
+                  P, T],
+                 [Op("PICK", "u", "follow"), P, T], [], set(), id="set-aside-half-seen"),
+    pytest.param([Op(SET_ASIDE, "u", "follow"), Op(SET_ASIDE, "u", "place", (0.0, 50.0)),
+                  P, T], [P, T], [], set(), id="set-aside-unseen"),
+    pytest.param([Op(SET_ASIDE, "u", "follow"), Op(SET_ASIDE, "u", "place", (0.0, 50.0)),
+                  P, T],
+                 [Op("PICK", "u", "follow"), Op("PLACE-ON-TABLE", "u", "place", (2.0, 50.0)),
+                  P, T], [], set(), id="set-aside-seen"),
 ]
 
 
