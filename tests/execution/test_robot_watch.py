@@ -65,6 +65,12 @@ CASES = [
                   P, T],
                  [Op("PICK", "u", "follow"), Op("PLACE-ON-TABLE", "u", "place", (2.0, 50.0)),
                   P, T], [], set(), id="set-aside-seen"),
+    # the watch names a block the plan does not have its own way (bench 1251, 4x)
+    pytest.param([Op(SET_ASIDE, "unused-cube-2", "follow"),
+                  Op(SET_ASIDE, "unused-cube-2", "place", (0.0, 50.0)), P, T],
+                 [Op("PICK", "unused:1", "follow"),
+                  Op("PLACE-ON-TABLE", "unused:1", "place", (1.0, 50.0)), P, T], [], set(),
+                 id="set-aside-seen-under-another-name"),
 ]
 
 
