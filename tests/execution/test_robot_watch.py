@@ -140,16 +140,3 @@ def test_a_block_set_down_behind_another_is_seen_placed(tmp_path, capsys):
     assert report["monitor"]["detections"] == []
     assert all(o["agree"] for o in report["monitor"]["operations"])
     assert len(report["monitor"]["operations"]) == 11  # each unit once
-
-
-@pytest.mark.heavy
-def test_a_robot_coming_straight_down_at_4x_is_seen_placing(tmp_path, capsys):
-    """Fault bench seed 7011 (4x), run without faults. The watch decides the table only
-    once the held block is low; the robot pauses above the spot, then comes straight
-    down at speed and is slow only as its block touches, where at 4x the tracker lost
-    it: the place went unseen and the unit was done twice. A hand waiting for the table
-    where it stopped is now watched on its way down however fast (SearchNode)."""
-    code, report, err = execute(tmp_path, DATA / "robot-4x.yaml", capsys, "robot-4x.plan.json")
-    assert code == 0, err
-    assert report["monitor"]["detections"] == []
-    assert all(o["agree"] for o in report["monitor"]["operations"])

@@ -78,21 +78,17 @@ class SearchNode(EnvNodeBase):
     def visual_search(self, query: Query, env: EnvModel) -> Detection | None:
         """Targets found below the arriving hand and confirmed in the environment model."""
         hand = self.hand
-        if hand.hand is None or not hand.steady or self.sight.t - query.since < MIN_TRANSFER_S:
-            # a motion that has only just begun is not arriving; just after a re-placement
-            # the hand's velocity is unknown
+        if (hand.hand is None or not hand.steady or hand.speed() > NEAR_SPEED * hand.v_fast
+                or self.sight.t - query.since < MIN_TRANSFER_S):
+            # a hand that stopped once and sped on (leaving) is not arriving, nor one whose
+            # motion has only just begun; just after a re-placement its velocity is unknown
+            return None
+        if self.leaving(query, env):
             return None
         began = self.waiting.get(query.since)
         if began is not None and np.hypot(*(hand.hand[:2] - began[1])) > MOVED_ON_MM:
             began = None  # it paused on the way and went on: it arrives somewhere else
         self.table_pending = began is not None and began[2]
-        # A hand that stopped once and sped on (leaving) is not arriving, unless it waits
-        # for its block to come down to the table where it stopped: it is watched on its
-        # way down however fast (a robot comes straight down at speed and is slow only
-        # as its block touches, and at 4x the tracker may lose it there: fault bench 7011)
-        if not self.table_pending and (hand.speed() > NEAR_SPEED * hand.v_fast
-                                       or self.leaving(query, env)):
-            return None
         found = self.near(env)
         if found is WAIT or found is LOW:
             if began is None:  # a new wait (older motions are over)
