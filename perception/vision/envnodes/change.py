@@ -147,7 +147,7 @@ class ChangeNode(EnvNodeBase):
             # pixels, which can only add block pixels to an empty window (``unexplained``).
             before, after = first["hold"], self.hand.tracker.holding_evidence
             emptied = self.unexplained(act, env) <= EMPTY
-            if act.special and before > EMPTY and emptied:
+            if act.special and before >= HOLDING and emptied:
                 result = APPEARED
             elif act.special and emptied and \
                     shade_change(shot, last) >= det.area_threshold:
