@@ -28,13 +28,6 @@ CASES = {
     # plank's centre, so over its pillar the plank seemed to hang beside it (the fault
     # bench's demonstration gave no plan)
     "fault7007-2x-tracker-onto-a-jaw": (7007, "2x", "classic"),
-    # at 4x the hand paused 100 mm and more above the table on its way: the table was
-    # decided there, and the place where the hand went on to became a NO-OP
-    "seed1026-4x-pause-on-the-way": (1026, "4x", "three-supports"),
-    "seed1002-4x-pause-on-the-way": (1002, "4x", "classic"),
-    # ... and while the table waited, a cube set down 5 mm beside another drifted to
-    # within 8 mm of it low down and was recorded on it
-    "seed1104-4x-beside-while-the-table-waits": (1104, "4x", "stacked-start"),
 }
 
 

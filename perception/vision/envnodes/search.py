@@ -32,12 +32,6 @@ SUPPORT_SHARE = 0.3
 # is within DECIDE_MM of that level's top, and is dated back to when the waiting began.
 COMING_MM = 30.0
 DECIDE_MM = 60.0
-# The table is decided the same way: a carried block is 70-150 mm up when the hand slows
-# over its spot, and a hand pausing on its way elsewhere looks the same until then (bench
-# 1002 and 1026 at 4x: the table was decided at such a pause, and the place the hand went
-# on to became a NO-OP). A hand that went on more than MOVED_ON_MM (x, y) from where it
-# began to wait arrives where it is now.
-MOVED_ON_MM = 60.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
 MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target) lasts longer
@@ -70,10 +64,8 @@ class SearchNode(EnvNodeBase):
         self.finder = SilFinder(self.sight.cameras, self.sight.resources)
         self.limit = int(self.rules.constants["search-cycle-limit"])
         self.default = tuple(float(v) for v in self.rules.constants["attention-region"])
-        # query since -> when its search began to wait, the hand's x, y then, and whether
-        # it waits for the held block to come down to the table (below)
-        self.waiting: dict[float, tuple[float, np.ndarray, bool]] = {}
-        self.table_pending = False
+        self.last: Region3D | None = None
+        self.waiting: dict[float, float] = {}  # query since -> when its search began to wait
 
     def visual_search(self, query: Query, env: EnvModel) -> Detection | None:
         """Targets found below the arriving hand and confirmed in the environment model."""
@@ -85,19 +77,12 @@ class SearchNode(EnvNodeBase):
             return None
         if self.leaving(query, env):
             return None
-        began = self.waiting.get(query.since)
-        if began is not None and np.hypot(*(hand.hand[:2] - began[1])) > MOVED_ON_MM:
-            began = None  # it paused on the way and went on: it arrives somewhere else
-        self.table_pending = began is not None and began[2]
         found = self.near(env)
-        if found is WAIT or found is LOW:
-            if began is None:  # a new wait (older motions are over)
-                began = (self.sight.t, np.array(hand.hand[:2], float), False)
-            self.waiting = {query.since: (*began[:2], began[2] or found is LOW)}
+        if found is WAIT:
+            if query.since not in self.waiting:
+                self.waiting = {query.since: self.sight.t}  # a new motion: older ones are over
             return None
-        if not found:
-            return None
-        return hand.detection(found=found, t=None if began is None else began[0])
+        return hand.detection(found=found, t=self.waiting.get(query.since)) if found else None
 
     def leaving(self, query: Query, env: EnvModel) -> bool:
         """A hand carrying an object that has not gone anywhere since its Transfer began, or
@@ -136,11 +121,7 @@ class SearchNode(EnvNodeBase):
         # few cm, so a step is at least the empty hand's region height (docs/seeing.md).
         step = max(float(start.size[2]), self.default[2])
         lo = float(start.lo[2])
-        # A held block already down at the table still has one region, reaching it: the
-        # table is decided only once the block is low (near), and a robot comes straight
-        # down at speed, slow only as the block touches (fault bench 3000: its place was
-        # never seen).
-        cycles = min(max(first, math.ceil(lo / step)), self.limit)
+        cycles = min(max(0, math.ceil(lo / step)), self.limit)
         out = []
         for k in range(first, cycles + 1):
             top = lo - (k - 1) * step if k else float(start.hi[2])
@@ -175,13 +156,13 @@ class SearchNode(EnvNodeBase):
                     # two-cube tower, 70 mm up, was recorded on the tower's lower cube)
                     return WAIT
                 elif names:
+                    self.last = region
                     return names
             if held is not None and region.lo[2] <= 0.0:
-                # the search reached the table with no block below: the table, once the
-                # held block has come down near it (a pause high on the way is not there)
                 if coming:
                     return WAIT
-                return LOW if float(held[1].lo[2]) > DECIDE_MM else (TABLE,)
+                self.last = region  # reached the table with no block below: the table
+                return (TABLE,)
         return WAIT if coming else ()
 
     def grasped(self, hits: Sequence[EnvNode], env: EnvModel) -> tuple[str, ...]:
@@ -228,14 +209,13 @@ class SearchNode(EnvNodeBase):
             hits = [n for n in hits if n not in level]
             if float(held.lo[2]) < top - TOP_TOLERANCE_MM:
                 continue  # the held block is already below its top: it comes down beside it
-            verdict = self._level(level, held, top, self.table_pending)
+            verdict = self._level(level, held, top)
             if verdict is not None:
                 return verdict
         return ()
 
     @staticmethod
-    def _level(level: list[EnvNode], held: Region3D, top: float, strict: bool = False
-               ) -> tuple[str, ...] | None:
+    def _level(level: list[EnvNode], held: Region3D, top: float) -> tuple[str, ...] | None:
         """One level's verdict: its blocks under the held one, WAIT, or None (beside it).
 
         A support is under the held block: a block of the level that the held footprint
@@ -245,10 +225,6 @@ class SearchNode(EnvNodeBase):
         level's narrower side, at most SUPPORT_TOLERANCE_MM): a hand coming in over a
         small neighbour passes over it (issue #12). Only a level no wider than the held
         block asks this: over a wider one (a tower's cube) the hand is where it will land.
-        Low down, a centre over the level lands on it, and so does one up to ``reach``
-        outside it unless ``strict``: the search is already waiting for the table there,
-        and a block the held one comes down beside must not win by the hand's drift
-        (bench 1104, 4x: a cube set down 5 mm beside another was recorded on it).
         """
         high = float(held.lo[2]) - top > DECIDE_MM
         reach = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * float(min(held.size[:2])))
@@ -262,7 +238,7 @@ class SearchNode(EnvNodeBase):
         narrow = float(np.min(hi - lo))
         inside = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * narrow) \
             if narrow <= float(min(held.size[:2])) else 0.0
-        if out <= -inside or (not high and out <= (0.0 if strict else reach)):
+        if out <= -inside or (out <= reach and not high):
             return tuple(n.name for n in under)
         return WAIT if out <= COMING_MM and high else None
 
@@ -274,4 +250,3 @@ def _gap(a: Region3D, b: Region3D) -> float:
 
 
 WAIT: tuple[str, ...] = ("",)  # no decision yet (a held block coming in beside a level)
-LOW: tuple[str, ...] = ("", "")  # nothing below but the table, and the held block still high
