@@ -140,18 +140,22 @@ def _operations(directory: Path, events, motions):
     table = reader.mapping(data["features"], "features", data, "features")
     for name, spec in table.items():
         spec = reader.mapping(spec, f"feature {name!r}", table, name)
-        reader.keys(spec, f"feature {name!r}", ("source",), ("detector", "values", "kinds"))
+        reader.keys(spec, f"feature {name!r}", ("source",),
+                    ("detector", "values", "kinds", "names"))
         source = reader.one_of(spec["source"], R.FEATURE_SOURCES, "feature source", spec, "source")
         values: tuple[Any, ...] = ()
         kinds: dict[str, str] = {}
         answers: dict[Any, Any] = {}
-        detector = None
+        detector = names = None
         if source == "snapshot-diff":
             if "detector" not in spec or "values" not in spec:
                 reader.fail(f"feature {name!r} needs a detector and its values", table, name)
             detector = reader.name(spec, "detector", f"feature {name!r}")
             answers = _answers(reader, spec, name)
             values = tuple(answers)
+            if "names" in spec:
+                names = reader.one_of(spec["names"], R.NAMED_SLOTS, f"feature {name!r} names",
+                                      spec, "names")
         elif source == "final-event":
             values = tuple(events)
         elif source == "hand-holds":
@@ -162,15 +166,16 @@ def _operations(directory: Path, events, motions):
                 reader.one_of(kind, ENV_CLASSES, "ENV-node class", spec, "kinds")
             values = tuple(kinds.values())
         takes = {
-            "snapshot-diff": ("detector", "values"),
+            "snapshot-diff": ("detector", "values", "names"),
             "target-kind": ("kinds",),
             "support-kind": ("kinds",),
         }
-        for key in ("detector", "values", "kinds"):
+        for key in ("detector", "values", "kinds", "names"):
             if key in spec and key not in takes.get(source, ()):
                 reader.fail(f"feature {name!r} of source {source!r} takes no {key!r}", spec, key)
         at = R.Where(reader.file, line_of(table, name))
-        features[name] = R.FeatureDef(name, source, detector, values, kinds, at, answers)
+        features[name] = R.FeatureDef(name, source, detector, values, kinds, at, answers,
+                                        names)
     classification: dict[str, tuple[R.ClassRow, ...]] = {}
     table = reader.mapping(data["classification"], "classification", data, "classification")
     for motion, rows in table.items():

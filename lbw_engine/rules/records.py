@@ -20,6 +20,8 @@ SLOTS = ("base", "target", "special")
 DIRECTIONS = ("next", "down", "up", "none")
 STACK_OPS = ("add", "reset", "delete")
 FEATURE_SOURCES = ("final-event", "hand-holds", "snapshot-diff", "target-kind", "support-kind")
+# The slots a snapshot-diff feature's detector may name the nodes of (``names``).
+NAMED_SLOTS = ("target",)
 SPEED_TESTS = ("slow", "within", "fast")
 DIRECTION_TESTS = ("up", "down", "lateral")
 INIT = "init"
@@ -116,7 +118,9 @@ class FeatureDef:
     """A Table V feature type and where its value comes from.
 
     ``answers`` maps each value of a snapshot-diff feature to the detector's own
-    answer (its closed vocabulary); ``value_of`` reads an answer back.
+    answer (its closed vocabulary); ``value_of`` reads an answer back. ``names`` is the
+    slot whose nodes the detector's comparison may name instead (the block that
+    really left with the hand), None if its named nodes change no slot.
     """
 
     name: str
@@ -126,6 +130,7 @@ class FeatureDef:
     kinds: dict[str, str]
     at: Where
     answers: dict[Any, Any] = field(default_factory=dict)
+    names: str | None = None  # the slot the detector's named nodes replace (NAMED_SLOTS)
 
     def value_of(self, answer: Any) -> Any:
         """The feature value a detector's answer stands for (None if it names none)."""

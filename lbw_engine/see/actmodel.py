@@ -79,9 +79,13 @@ def resolve(
 def compute_features(
     rules: RuleSet, node: ActNode, event: str | None, env: EnvModel, compared: dict[str, Any]
 ) -> dict[str, Any]:
-    """Table V feature values of ``node`` at its end; ``compared`` holds detector diffs."""
+    """Table V feature values of ``node`` at its end; ``compared`` holds detector diffs.
+
+    Snapshot diffs come first: a detector may name the node's real target (``names``),
+    and the target's kind must be read from that."""
     out: dict[str, Any] = {}
-    for name, spec in rules.features.items():
+    ordered = sorted(rules.features.items(), key=lambda item: item[1].source != "snapshot-diff")
+    for name, spec in ordered:
         if spec.source == "final-event":
             out[name] = event
         elif spec.source == "hand-holds":
@@ -92,6 +96,9 @@ def compute_features(
                 out[name] = spec.value_of(diff.value)  # the detector's answer, in rule words
                 node.measured[name] = diff.position
                 node.found_by[name] = tuple(diff.found)
+                named = tuple(n for n in diff.found if n in env.nodes)
+                if spec.names is not None and named:
+                    setattr(node, spec.names, named)
         else:  # target-kind, or support-kind: the kind of what the targets rest on
             targets = env.get(node.target)
             if spec.source == "support-kind":

@@ -48,6 +48,9 @@ HOLDING, EMPTY = 0.6, 0.1  # block fraction of the holder window: an object held
 # this share of its outline there; it then still sees the target where it was if this share
 # of its outline is block-bright in both snapshots (the holder window cannot overrule that).
 PLAIN_VIEW, KEPT = 0.2, 0.5
+# A block of a picked target's stack has left with the hand when a view sees at least KEPT
+# of its outline clear of the hand and of other objects, and at most GONE of that lit.
+GONE = 0.1
 # A placed block's x: the changed area's centre and the release point disagreeing by more
 # than FIT_SLACK_MM are checked against the image; the release point needs a block-pixel
 # fraction FIT_MARGIN higher to win (see ChangeNode.placed_x).
@@ -168,8 +171,60 @@ class ChangeNode(EnvNodeBase):
                 x = self.placed_x(x, float(released[1].center[0]), (float(rel[1]), z),
                                   held[0].size, last)
             pos = np.array([x, rel[1], z])
-        return Detection(value=result,
+        lifted = self.lifted(act, env) if result == DISAPPEARED and not act.special else ()
+        return Detection(value=result, found=lifted,
                          position=tuple(float(c) for c in pos) if pos is not None else None)
+
+    def lifted(self, act: ActView, env: EnvModel) -> tuple[str, ...]:
+        """The block of the target's stack that the hand really took, () if the target.
+
+        At :Near the hand may be as close to a rider's centre as to its plank's (a cube
+        centred on it), and the search then names the rider. Picking a block takes what
+        rests on it along: if the block the target rests on (alone) is plainly gone from
+        its place too, that one was picked, and so on down. If the target is plainly still
+        there, the one block resting on it that is plainly gone was.
+        """
+        targets = _targets(act, env)
+        if len(targets) != 1:
+            return ()
+        node, taken = targets[0], None
+        while True:
+            below = [n for n in env.get(env.supports_of(node.name)) if n.kind == "Loc"
+                     and n.position is not None and n.size is not None]
+            if len(env.supports_of(node.name)) != 1 or not below or self.seen(below[0], env) \
+                    is not False:
+                break
+            taken = node = below[0]
+        if taken is not None:
+            return (taken.name,)
+        target = targets[0]
+        riders = [n for n in env.get(env.supported_by(target.name)) if n.kind == "Loc"
+                  and n.position is not None and n.size is not None
+                  and env.supports_of(n.name) == [target.name]]
+        if not riders or self.seen(target, env) is not True:
+            return ()
+        gone = [n for n in riders if self.seen(n, env) is False]
+        return (gone[0].name,) if len(gone) == 1 else ()
+
+    def seen(self, node: EnvNode, env: EnvModel) -> bool | None:
+        """Whether a block is still where the environment model has it, in the current
+        frame: True if a view that sees it plainly shows its outline bright, False if
+        such a view shows it empty (and none bright), None if no view tells."""
+        self.detector.attention(box(node))
+        shot = self.detector.take(self.sight.frame)
+        others = _boxes_but(env, {node.name} | set(env.held()))
+        verdicts = set()
+        for view, (window,) in self.detector.windows.items():
+            cam, img = self.sight.cameras[view], shot.pixels[view]
+            outline = region_mask(cam, box(node), window)
+            clear = outline & ~band(img, *HAND_BAND) & ~regions_mask(cam, others, window)
+            if not outline.any() or clear.sum() < KEPT * outline.sum():
+                continue
+            # kept: block faces; gone: not even a crease or the arm's gray is left
+            bright = float((clear & (img >= BLOCK_MIN)).sum()) / float(clear.sum())
+            lit = float((clear & (img > DARK_MAX)).sum()) / float(clear.sum())
+            verdicts.add(True if bright >= KEPT else False if lit <= GONE else None)
+        return True if True in verdicts else False if False in verdicts else None
 
     def unexplained(self, act: ActView, env: EnvModel) -> float:
         """Block fraction of the holder window (Sec. III-C3) that no other known object explains.
