@@ -70,6 +70,22 @@ BROKEN = [
         "value of 'sil-diff': 'smaller' does not exist",
     ),
     (
+        "unknown-named-slot",
+        "operations.yaml",
+        "    names: target\n",
+        "    names: targets\n",
+        "names: targets",
+        "feature 'sil-diff' names 'targets' does not exist (known: target)",
+    ),
+    (
+        "named-slot-on-a-feature-without-detector",
+        "operations.yaml",
+        "  seg-event: {source: final-event}\n",
+        "  seg-event: {source: final-event, names: target}\n",
+        "seg-event:",
+        "feature 'seg-event' of source 'final-event' takes no 'names'",
+    ),
+    (
         "unknown-binding",
         "transitions.yaml",
         "base: found, target: none",
