@@ -16,7 +16,7 @@ half of them so their rows run along x. The families, and what each exercises:
 | three-supports | a plate on three bricks (a triangle or a line)                          |
 | stairs         | a stack whose blocks are set off by 6-12 mm with ``at``                 |
 | stacked-start  | classic structures whose parts start stacked, in teach and in execute  |
-| rearrange      | the top of a stack taken off and put elsewhere                          |
+| rearrange      | the top of a stack taken off and put elsewhere; a loaded slat moved     |
 
 Sizes are integers drawn from the seed; every builder keeps structures under
 MAX_HEIGHT (the robot's carrying height, rules/commands.yaml) and centres
@@ -228,9 +228,20 @@ def stairs(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
 
 
 def rearrange(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
-    """A stack of two or three; its top (then maybe the next) taken off and put elsewhere."""
+    """A stack of two or three; its top (then maybe the next) taken off and put elsewhere.
+    Or a short plank with a small cube on its centre moved elsewhere, the cube riding
+    along: the hand grips the plank just beside the cube, as near the cube's centre as
+    the plank's (they coincide), and the search names the cube."""
     p = Piece("rearrange")
-    if rng.random() < 0.5:
+    draw = rng.random()
+    if draw < 1 / 3:
+        plank, rider = f"{tag}-slat", f"{tag}-knob"
+        p.add(plank, "slat", (_ri(rng, 100, 120), 30, 15))
+        p.add(rider, "knob", (_ri(rng, 22, 28),) * 3)
+        p.starts_on[rider] = plank
+        p.put(plank, "table", (0, 0))
+        return p
+    if draw < 2 / 3:
         stack = [(f"{tag}-base", "cube", CUBE), (f"{tag}-top", "brick", BRICK)]
     else:  # 50 + 40 + 20 mm: under MAX_HEIGHT
         stack = [(f"{tag}-base", "block", CATALOGUE["block"]), (f"{tag}-mid", "cube", CUBE),
