@@ -3,7 +3,7 @@
 Three kinds, each tied to the N-th ACHIEVE the robot executes (1-based):
 
 * ``{during: N, kind: drop}`` — the gripper lets go halfway through that
-  ACHIEVE's transfer. "Halfway" is read from the world: the robot's moves
+  ACHIEVE's transfer (its jaws slacken by SLIP_MM; the robot is not told). "Halfway" is read from the world: the robot's moves
   follow a minimum-jerk profile whose speed peaks at the middle of the move,
   so the block is dropped when its horizontal speed, while held, has passed
   its peak;
@@ -32,6 +32,10 @@ _KEYS = {"drop": {"during", "kind"}, "displace": {"after", "kind", "object", "by
 WHEN_MAX = 10_000  # an ACHIEVE count no plan reaches; larger is a typo
 BY_RANGE = (-600.0, 600.0)  # mm: the table is 600 mm wide
 PEAK_MIN = 40.0  # mm/s: a held block slower than this is being lifted, not carried
+# A drop is a slip: the jaws slacken by this much and the block falls out. Flung fully
+# open (the 150 mm of the robot's gripper) the fingers came down around the place spot
+# as wide as that and toppled a pillar standing 80 mm beside it (a user's table).
+SLIP_MM = 10.0
 
 
 @dataclass(frozen=True)
@@ -142,7 +146,7 @@ class FaultInjector:
             vx = abs(world.shapes[g.holding].body.velocity[0])
             self._peak = max(self._peak, vx)
             if self._peak >= PEAK_MIN and vx < 0.9 * self._peak:  # past the middle
-                g.open()
+                g.open(g.opening + SLIP_MM)
                 self._armed = None
                 self._record(f)
 

@@ -63,6 +63,20 @@ def test_fault_is_detected_repaired_and_verified(tmp_path, capsys, name, faults,
     assert report["success"] is True and report["failure"] is None
 
 
+def test_a_drop_beside_a_standing_block_is_repaired(tmp_path, capsys):
+    """A drop is a slip (perception/world/faults.py SLIP_MM): the jaws flung fully open
+    came down around the place spot 150 mm wide and toppled the leg standing beside it."""
+    out = tmp_path / "out"
+    code = main(["execute", str(DATA / "table-legs.plan.json"),
+                 str(DATA / "table-legs-drop.yaml"), "--out", str(out)])
+    err = capsys.readouterr().err
+    report = json.loads((out / "execution.json").read_text())
+    assert code == 0, err
+    assert [f["kind"] for f in report["faults"]] == ["drop"]
+    assert [r["operator"] for r in report["monitor"]["repairs"]] == ["achieve01"]
+    assert report["verification"] == {"cameras": True, "ground_truth": True}
+
+
 def test_a_removed_object_without_a_spare_ends_the_run_naming_it(tmp_path, capsys):
     path = scenario(tmp_path, "unstack", ["{after: 1, kind: remove, object: t}"])
     code, report, err = execute(tmp_path, "unstack", path, capsys)
