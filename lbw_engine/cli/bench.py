@@ -45,8 +45,10 @@ from lbw_engine.outputs import OutputDir, atomic_write_text, to_json
 from lbw_engine.report.families import format_families, summarize_families
 from lbw_engine.report.metrics import (
     compare_sequence,
+    fine_relations,
     format_table,
     plan_final_relations,
+    plan_fine_pairs,
     summarize,
     support_facts,
 )
@@ -124,6 +126,11 @@ def true_final(scenario: Any, roles: Any) -> set:
     return {f for f in facts if f[0] in moved}
 
 
+def true_aligns(scenario: Any) -> set:
+    """Unordered pairs of the objects the demonstration slid into line (design.md align)."""
+    return {frozenset((s.obj, s.align.with_)) for s in scenario.demonstration if s.align}
+
+
 def run_one(task: tuple[int, str, str, str | None]) -> dict[str, Any]:
     """Generate, watch, analyze, execute and score one scenario (runs in a worker)."""
     seed, level, family, rules_dir = task
@@ -172,9 +179,12 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     wrong = foreign_objects(sc, result.actions)
     if result.plan is not None:
         rec["analyze_seconds"] = result.seconds["analyze"]
-        rec["plan_correct"] = plan_final_relations(
-            result.plan, rules.roles.support,
-            teach_rename(result.actions, sc)) == true_final(sc, rules.roles)
+        rename = teach_rename(result.actions, sc)
+        # the supports, and the aligns: a lost ALIGN leaves every support right
+        rec["aligns_correct"] = plan_fine_pairs(
+            result.plan, fine_relations(rules), rename) == true_aligns(sc)
+        rec["plan_correct"] = rec["aligns_correct"] and plan_final_relations(
+            result.plan, rules.roles.support, rename) == true_final(sc, rules.roles)
     if result.execution is not None and not wrong:
         rec["execute_seconds"] = result.seconds["execute"]
         rec["execution_success"] = bool(result.execution.success)
@@ -313,6 +323,8 @@ def failures(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
         else:
             if r.get("failure"):
                 what.append(r["failure"])
+            elif not r.get("aligns_correct", True):
+                what.append("the plan's aligns differ from the demonstrated ones")
             elif not r["plan_correct"]:
                 what.append("plan's final relations differ from the true ones")
         if what:

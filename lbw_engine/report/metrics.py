@@ -121,6 +121,24 @@ def plan_final_relations(plan: dict[str, Any], support: Sequence[str],
     return support_facts(root.get("sc_plus", []), support, rename)
 
 
+def fine_relations(rules: Any) -> set[str]:
+    """The relations the effects of fine-motion operations add (the bundled rules: the one
+    an ALIGN leaves, Sec. V-B5), read from rules/operations.yaml and effects.yaml."""
+    fine = {m for m, spec in rules.motions.items() if spec.fine}
+    ops = {row.operation for m in fine for row in rules.classification.get(m, ())}
+    return {t.type for op in ops if op in rules.effects for t in rules.effects[op].add}
+
+
+def plan_fine_pairs(plan: dict[str, Any], relations: set[str],
+                    rename: dict[str, str] | None = None) -> set:
+    """Unordered object pairs that the plan's root relates by one of ``relations``."""
+    rename = rename or {}
+    root = plan["operators"][plan["root"]]
+    return {frozenset(rename.get(o, o) for o in rel[1:3]) for rel in root.get("sc_plus", [])
+            if len(rel) >= 3 and rel[0] in relations and all(isinstance(o, str)
+                                                             for o in rel[1:3])}
+
+
 def percentile(values: Sequence[float], q: float) -> float | None:
     """The q-th percentile (linear interpolation), None for no values."""
     if not values:

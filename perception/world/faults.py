@@ -3,10 +3,10 @@
 Three kinds, each tied to the N-th ACHIEVE the robot executes (1-based):
 
 * ``{during: N, kind: drop}`` — the gripper lets go halfway through that
-  ACHIEVE's transfer (its jaws slacken by SLIP_MM; the robot is not told). "Halfway" is read from the world: the robot's moves
-  follow a minimum-jerk profile whose speed peaks at the middle of the move,
-  so the block is dropped when its horizontal speed, while held, has passed
-  its peak;
+  ACHIEVE's transfer (its jaws slacken by SLIP_MM; the robot is not told).
+  "Halfway" is read from the world: the robot's moves follow a minimum-jerk
+  profile whose speed peaks at the middle of the move, so the block is dropped
+  when its horizontal speed, while held, has passed its peak;
 * ``{after: N, kind: displace, object: NAME, by: [dx, dy]}`` — an outside agent
   slides the object; what rests on it may fall;
 * ``{after: N, kind: remove, object: NAME}`` — the object is taken away.

@@ -46,3 +46,12 @@ def test_a_block_set_down_flush_without_a_slide_is_no_align():
     fine = [f["operation"] for op in actions["operations"] if op["special"]
             for f in op["fine"]]
     assert fine == ["NO-OP"] * 3
+
+
+def test_a_short_slide_into_line_is_an_align():
+    """An 8 mm slide (the faces hidden at its start) is an ALIGN (CoplanarNode.compare)."""
+    sc, _, actions = watch_file(DATA / "align-short-slide.yaml")
+    assert_sequence(sc, actions)
+    fine = [[f["operation"] for f in op["fine"]] for op in actions["operations"]
+            if op["special"] and op["fine"]]
+    assert fine == [["NO-OP"], ["ALIGN"]]

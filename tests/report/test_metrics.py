@@ -9,10 +9,12 @@ from lbw_engine.report.metrics import (
     align,
     collapse_tail,
     compare_sequence,
+    fine_relations,
     first_difference,
     format_table,
     percentile,
     plan_final_relations,
+    plan_fine_pairs,
     summarize,
     wilson,
 )
@@ -185,3 +187,20 @@ def test_a_bench_record_names_the_first_phase_after_recognition_that_failed(phas
     from lbw_engine.cli.bench import first_failure
 
     assert first_failure(phases, foreign) == want
+
+
+def test_the_bench_scores_a_plans_aligns():
+    """A lost ALIGN leaves every support right: the bench compares the pairs the plan's
+    fine-motion relations join with the demonstrated aligns (lbw_engine/cli/bench.py)."""
+    from pathlib import Path
+
+    from lbw_engine.rules import load_rules
+
+    data = Path(__file__).resolve().parent.parent / "data"
+    relations = fine_relations(load_rules())
+    assert relations == {"coplanar"}
+    aligned = json.loads((data / "place-and-align.plan.json").read_text())
+    assert plan_fine_pairs(aligned, relations) == {frozenset({"block1", "block2"})}
+    assert plan_fine_pairs(aligned, relations, {"block2": "b2"}) == {frozenset({"block1", "b2"})}
+    tower = json.loads((data / "tower.plan.json").read_text())
+    assert plan_fine_pairs(tower, relations) == set()

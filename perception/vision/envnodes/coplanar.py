@@ -50,9 +50,9 @@ class CoplanarNode(EnvNodeBase):
         # where the hand let go of it (or holds it now): it stays there (Sec. V-B5)
         held = self.hand.held_box(env, at=self.hand.let_go(act.since))
         if held is None or self.sight.frame is None:
-            return {"pairs": set(), "hidden": False, "at": None}
+            return {"pairs": set(), "hidden": False, "at": None, "offsets": {}}
         node, a = held
-        out, hidden = set(), False
+        out, hidden, offsets = set(), False, {}
         for other in env.objects():
             if other.name == node.name or other.position is None or other.size is None:
                 continue
@@ -66,6 +66,7 @@ class CoplanarNode(EnvNodeBase):
                 if abs(gap) > CONTACT_MM or overlap <= 0 or abs(a.lo[2] - b.lo[2]) > 10.0:
                     continue
                 for face in faces:
+                    offsets[(other.name, face)] = abs(_face(a, face) - _face(b, face))
                     seen = self.detector.check(self.sight.frame, a, b, face)
                     if self.detector.step_mm is None:  # the palm or a finger hides an edge
                         hidden = True
@@ -73,7 +74,8 @@ class CoplanarNode(EnvNodeBase):
                     if seen:
                         out.add((other.name, face))
         self.detector.free()
-        return {"pairs": out, "hidden": hidden, "at": (float(a.center[0]), float(a.center[1]))}
+        return {"pairs": out, "hidden": hidden, "at": (float(a.center[0]), float(a.center[1])),
+                "offsets": offsets}
 
     def snapshot(self, act: ActView, env: EnvModel) -> Any:
         """Coplanar face pairs now."""
@@ -89,9 +91,15 @@ class CoplanarNode(EnvNodeBase):
         else unchanged."""
         start = first.get("at") if first else None
         end = last.get("at") if last else None
+        before = first.get("offsets", {}) if first else {}
+        after = last.get("offsets", {}) if last else {}
         first = first["pairs"] if first else set()
         last = last["pairs"] if last else set()
-        appeared = last - first
+        # A pair coplanar at both ends appeared too if the slide brought its faces SLID_MM
+        # closer: at the start the fingers hide the faces, and the measured boxes then
+        # call faces 8 mm apart coplanar (MODEL_TOLERANCE_MM; a user's 8 mm slide).
+        appeared = {p for p in last if p not in first
+                    or before.get(p, 0.0) - after.get(p, 0.0) >= SLID_MM}
         if start is not None and end is not None and math.dist(start, end) < SLID_MM:
             appeared = set()  # put down flush where it came down: not slid into line
         sign = 1 if appeared else -1 if first - last else 0
