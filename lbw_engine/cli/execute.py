@@ -16,7 +16,7 @@ from pathlib import Path
 
 from lbw_engine.do import plan as planmod
 from lbw_engine.outputs import OutputDir
-from lbw_engine.pipeline.execute import VIA, execute_plan, write_views
+from lbw_engine.pipeline.execute import VIA, execute_plan, fault_notes, write_views
 from lbw_engine.rules import load_rules
 
 HELP = "instantiate a plan in the scenario's execution workspace, run it with the robot, verify"
@@ -53,6 +53,8 @@ def run(args: argparse.Namespace) -> int:
         out.write_json("execution.json", result.report)
         write_views(out, result.views)
     done = f"plan {plan.root} in {sc.name}: {result.report.get('commands', 0)} commands"
+    for line in fault_notes(result.report):
+        print(f"lbw execute: {line}", file=sys.stderr)
     if not result.success:
         print(f"lbw execute: {done}; failed: {result.phase}: {result.message}; outputs in "
               f"{args.out}", file=sys.stderr)

@@ -18,6 +18,7 @@ import sys
 from pathlib import Path
 
 from lbw_engine.outputs import OutputDir
+from lbw_engine.pipeline.execute import fault_notes
 from lbw_engine.pipeline.run import publish, repair_lines, verdict_words
 from lbw_engine.pipeline.run import run as run_pipeline
 
@@ -58,6 +59,8 @@ def run(args: argparse.Namespace) -> int:
           f"({verdict_words(rec)}); outputs in {args.out}")
     for line in repair_lines(result.actions):
         print(f"lbw run: {line}")
+    for line in fault_notes(result.execution.report if result.execution else {}):
+        print(f"lbw run: {line}", file=sys.stderr)
     if not result.success:
         print(f"lbw run: failed: {result.failure}", file=sys.stderr)
         return 1

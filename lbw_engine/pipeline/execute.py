@@ -131,8 +131,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     except TaskFailed as exc:
         stopped = _stopped_verdict(planned, robot, eyes, world, sc, shape_of, rules)
         report.update(stage="execution", failure=f"execution: {exc}", mismatches=[],
-                      faults=injector.injected, ground_truth_toppled=_toppled(world),
-                      verification=stopped)
+                      faults=injector.injected, faults_not_injected=injector.missed(),
+                      ground_truth_toppled=_toppled(world), verification=stopped)
         return ExecutionResult(False, str(exc), f";;; stopped: {exc}\n", report, None, views,
                                "execution")
     names = list(matching.assigned)
@@ -155,6 +155,7 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         inferred_hidden=seen.inferred,
         ground_truth_mismatches=truth.mismatches,
         faults=injector.injected,
+        faults_not_injected=injector.missed(),
         ground_truth_toppled=_toppled(world),
         robot={"grasps": log.grasps, "sim_time": round(log.time, 2)},
     )
@@ -165,6 +166,18 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     title = f"plan {plan.root} in {sc.name}"
     return ExecutionResult(verdict.success, msg, format_commands(tr, title), report, tr, views,
                            None if verdict.success else "verification")
+
+
+def fault_notes(report: dict[str, Any]) -> list[str]:
+    """One line per scenario fault that never fired (execution.json faults_not_injected)."""
+    out = []
+    for f in report.get("faults_not_injected", ()):
+        when = f"during ACHIEVE {f['during']}" if "during" in f else f"after ACHIEVE {f['after']}"
+        what = f" of '{f['object']}'" if "object" in f else ""
+        where = f" (line {f['line']})" if "line" in f else ""
+        out.append(f"note: the {f['kind']}{what} {when}{where} never happened: the robot "
+                   "did not get that far, or the object was already gone")
+    return out
 
 
 def _verdicts(robot: Any, eyes: Eyes, world: Any, sc: Any, shape_of: dict[str, str],

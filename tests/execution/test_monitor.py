@@ -77,6 +77,19 @@ def test_a_drop_beside_a_standing_block_is_repaired(tmp_path, capsys):
     assert report["verification"] == {"cameras": True, "ground_truth": True}
 
 
+def test_a_fault_that_never_fires_is_reported(tmp_path, capsys):
+    """A drop tied to an ACHIEVE the plan never reaches changes nothing; the user is told
+    (execution.json faults_not_injected, a note on stderr), not left to believe it was tried."""
+    path = scenario(tmp_path, "unstack", ["{during: 5, kind: drop}"])
+    code, report, err = execute(tmp_path, "unstack", path, capsys)
+    assert code == 0
+    assert report["faults"] == []
+    missed = report["faults_not_injected"]
+    assert [(f["kind"], f["during"]) for f in missed] == [("drop", 5)]
+    assert isinstance(missed[0]["line"], int)
+    assert "note: the drop during ACHIEVE 5" in err and "never happened" in err
+
+
 def test_a_removed_object_without_a_spare_ends_the_run_naming_it(tmp_path, capsys):
     path = scenario(tmp_path, "unstack", ["{after: 1, kind: remove, object: t}"])
     code, report, err = execute(tmp_path, "unstack", path, capsys)
