@@ -55,6 +55,7 @@ GONE = 0.1
 # than FIT_SLACK_MM are checked against the image; the release point needs a block-pixel
 # fraction FIT_MARGIN higher to win (see ChangeNode.placed_x).
 FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
+EXTENT_SLACK_MM = 4.0  # the side view's changed columns span the placed block's length
 # A place's change threshold is never asked of fewer changed pixels than a third of this
 # (sensor noise flips single pixels; a 10 mm cube fully in view changes about 10).
 MIN_CHANGE_PX = 6
@@ -167,6 +168,8 @@ class ChangeNode(EnvNodeBase):
             x, z = (float(pos[0]), float(pos[2])) if pos is not None else (rel[0], rel[2])
             released = self.hand.held_box(env, at=let_go, spot=True)
             held = [env.nodes[n] for n in act.special if n in env.nodes]
+            if pos is not None and held and held[0].size is not None:
+                x = self.side_extent_x(x, (float(rel[1]), z), held[0].size)
             if pos is not None and held and held[0].size is not None and released is not None:
                 x = self.placed_x(x, float(released[1].center[0]), (float(rel[1]), z),
                                   held[0].size, last)
@@ -249,6 +252,28 @@ class ChangeNode(EnvNodeBase):
         if clear.sum() < HOLDER_CLEAR * clear.size:
             return tracker.holding_evidence
         return float(((sub >= BLOCK_MIN) & clear).sum()) / float(clear.sum())
+
+    def side_extent_x(self, x: float, yz: tuple[float, float], size: Sequence[float]) -> float:
+        """x of a placed block from the ends of the side view's change, if they fit its size.
+
+        The changed area's centre is biased where the block covers pixels that were bright
+        already: set down off its support's centre (a staircase step), its front face
+        hides part of the support's top face, seen from above by both cameras, and the
+        centre moved 5 mm toward the overhang (a user's 15 mm step). The face's upper rows
+        still change along its whole length, so the side view's changed columns end at the
+        block's ends; their midpoint is used when they span the block's length (within
+        EXTENT_SLACK_MM: nothing else changed beside it, nothing hid an end).
+        """
+        ext = self.detector.extent.get("side")
+        if ext is None:
+            return x
+        cam = self.sight.cameras["side"]
+        row = float(cam.project(np.array([[x, yz[0], yz[1]]]))[0][1])
+        ends = [float(cam.point_on_plane((u, row), 1, yz[0])[0]) for u in (ext[0] - 0.5,
+                                                                          ext[1] + 0.5)]
+        if abs((ends[1] - ends[0]) - float(size[0])) > EXTENT_SLACK_MM:
+            return x
+        return (ends[0] + ends[1]) / 2.0
 
     def placed_x(self, changed: float, released: float, yz: tuple[float, float],
                  size: Sequence[float], last: Snapshot) -> float:

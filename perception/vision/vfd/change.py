@@ -27,6 +27,7 @@ AREA_THRESHOLD = 0.12  # changed fraction of the region's image area that counts
 # other one) sees only the uncovered part, and its centre is pulled off the object's; it is
 # left out of the position when more than this share is hidden and another view is clear.
 HIDDEN_SHARE = 0.25
+EXTENT_PX = 2  # an image column is part of a change's extent with this many changed pixels
 # A pixel changed shade when its gray moved this much: a block's faces differ by ~85 gray
 # levels (renderer), two frames at 4x pixel noise (std 8) by ~11 (std of the difference).
 GRAY_STEP = 48
@@ -60,6 +61,8 @@ class ChangeDetector(VFD):
         self._first: Snapshot | None = None
         self.result: str | None = None
         self.changed_fraction: dict[str, float] = {}
+        # per view, the image columns (first, last) where the last judge's change is solid
+        self.extent: dict[str, tuple[int, int]] = {}
 
     def take(self, frame: Frame) -> Snapshot:
         """A snapshot of the current region's windows on ``frame``."""
@@ -111,6 +114,11 @@ class ChangeDetector(VFD):
             c = centroid(changed)
             if c is not None:
                 centres[v] = (x0 + c[0], y0 + c[1])
+            cols = np.nonzero(changed.sum(axis=0) >= EXTENT_PX)[0]
+            if len(cols):
+                self.extent[v] = (x0 + int(cols[0]), x0 + int(cols[-1]))
+            else:
+                self.extent.pop(v, None)
         passing = [v for v in VIEWS if abs(votes[v]) >= self.need(votes[v])]
         if not passing:
             self.result, self._target = NO_CHANGE, None
