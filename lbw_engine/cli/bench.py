@@ -131,6 +131,24 @@ def true_aligns(scenario: Any) -> set:
     return {frozenset((s.obj, s.align.with_)) for s in scenario.demonstration if s.align}
 
 
+def place_errors(sc: Any, roles: Any, true_ops: list, ops: list[dict[str, Any]]) -> list[float]:
+    """How far (x, y; mm) each place measured its block from where the block came to rest,
+    for a sequence recognized as long as the true one (else the ops do not pair up)."""
+    if len(true_ops) != len(ops):
+        return []
+    out = []
+    for t, op in zip(true_ops, ops, strict=True):
+        if t.step < 0 or not t.special or sc.demonstration[t.step].kind != "place" \
+                or any(r[0] == roles.hold for r in t.final_relations):
+            continue  # not the motion that let the block go
+        name = t.special[0]
+        measured = (op.get("final_state") or {}).get("positions", {}).get(name)
+        rest = sc.states[t.step].center.get(name)
+        if measured is not None and rest is not None:
+            out.append(round(math.dist(measured[:2], rest[:2]), 2))
+    return out
+
+
 def run_one(task: tuple[int, str, str, str | None]) -> dict[str, Any]:
     """Generate, watch, analyze, execute and score one scenario (runs in a worker)."""
     seed, level, family, rules_dir = task
@@ -158,8 +176,9 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
 
     rules, _, _ = _rules(rules_dir)
     demo = Demonstration(sc)
+    true_ops = ground_truth(sc, rules, demo)
     truth = [{"operation": t.operation, "t_start": t.t_start, "t_end": t.t_end}
-             for t in ground_truth(sc, rules, demo)]
+             for t in true_ops]
     rec["demo_seconds"] = demo.duration
     seen: dict[str, Any] = {}
 
@@ -173,6 +192,7 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     sight = seen["hand"].sight.pixels
     rec["pixels_per_frame"] = sum(sight) / max(1, len(sight))
     rec.update(compare_sequence(truth, result.raw["operations"]))
+    rec["place_errors_mm"] = place_errors(sc, rules.roles, true_ops, result.raw["operations"])
     rec["repairs"] = result.recognition["repair"]["repairs"]
     rec["exact_repaired"] = compare_sequence(truth, result.actions["operations"])["exact"]
     rec["plan_correct"] = rec["execution_success"] = False

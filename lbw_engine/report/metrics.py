@@ -174,6 +174,7 @@ def summarize(records: list[dict[str, Any]], levels: Sequence[str]) -> dict[str,
             continue
         ok = [r for r in rs if "error" not in r]
         timing = [e for r in ok for e in r["timing_errors"]]
+        placed = [e for r in ok for e in r.get("place_errors_mm", ())]
 
         out[level] = {
             "scenarios": len(rs), "crashed": len(rs) - len(ok),
@@ -183,6 +184,9 @@ def summarize(records: list[dict[str, Any]], levels: Sequence[str]) -> dict[str,
             "edit_accuracy": statistics.fmean(r["accuracy"] for r in ok) if ok else 0.0,
             "timing_error_median_s": percentile(timing, 50),
             "timing_error_p95_s": percentile(timing, 95),
+            # where each place measured its block against where it came to rest (x, y)
+            "place_error_median_mm": percentile(placed, 50),
+            "place_error_p95_mm": percentile(placed, 95),
             "plan_correct_rate": _rate(rs, "plan_correct"),
             "execution_success_rate": _rate(rs, "execution_success"),
             # issue #13: the cameras' verdict against the simulator's, where both were given

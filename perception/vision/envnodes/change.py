@@ -254,26 +254,31 @@ class ChangeNode(EnvNodeBase):
         return float(((sub >= BLOCK_MIN) & clear).sum()) / float(clear.sum())
 
     def side_extent_x(self, x: float, yz: tuple[float, float], size: Sequence[float]) -> float:
-        """x of a placed block from the ends of the side view's change, if they fit its size.
+        """x of a placed block whose outline, projected into the side view, spans the
+        columns the change spans, if the two spans are as wide (the block's whole outline
+        changed: nothing beside it changed too, nothing hid an end).
 
-        The changed area's centre is biased where the block covers pixels that were bright
-        already: set down off its support's centre (a staircase step), its front face
-        hides part of the support's top face, seen from above by both cameras, and the
-        centre moved 5 mm toward the overhang (a user's 15 mm step). The face's upper rows
-        still change along its whole length, so the side view's changed columns end at the
-        block's ends; their midpoint is used when they span the block's length (within
-        EXTENT_SLACK_MM: nothing else changed beside it, nothing hid an end).
+        The changed area's centre is biased where the block covers pixels that were
+        bright already: set down off its support's centre (a staircase step), its front
+        face hides part of the support's top face, and the centre moved 5 mm toward the
+        overhang (a user's 15 mm step). The face's upper rows still change along its whole
+        length. The camera's perspective shows one side face too, so the span is matched
+        with the projected box (its eight corners), not read as the block's ends.
         """
         ext = self.detector.extent.get("side")
         if ext is None:
             return x
         cam = self.sight.cameras["side"]
-        row = float(cam.project(np.array([[x, yz[0], yz[1]]]))[0][1])
-        ends = [float(cam.point_on_plane((u, row), 1, yz[0])[0]) for u in (ext[0] - 0.5,
-                                                                          ext[1] + 0.5)]
-        if abs((ends[1] - ends[0]) - float(size[0])) > EXTENT_SLACK_MM:
-            return x
-        return (ends[0] + ends[1]) / 2.0
+        seen = (ext[0] - 0.5, ext[1] + 0.5)  # the changed columns' outer pixel edges
+        half = np.asarray(size, float) / 2.0
+        corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+        for _ in range(2):  # the projection is nearly affine over a few mm: two steps
+            u = cam.project(np.array([x, yz[0], yz[1]]) + corners * half)[:, 0]
+            span = float(u.max() - u.min())
+            if abs((seen[1] - seen[0]) - span) > EXTENT_SLACK_MM * span / float(size[0]):
+                return x
+            x += ((seen[0] + seen[1]) - float(u.max() + u.min())) / 2.0 * float(size[0]) / span
+        return x
 
     def placed_x(self, changed: float, released: float, yz: tuple[float, float],
                  size: Sequence[float], last: Snapshot) -> float:
