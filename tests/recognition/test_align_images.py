@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from .generated import assert_sequence, watch_file
 
 SCENARIO = "place-and-align"
@@ -48,10 +50,15 @@ def test_a_block_set_down_flush_without_a_slide_is_no_align():
     assert fine == ["NO-OP"] * 3
 
 
-def test_a_short_slide_into_line_is_an_align():
-    """An 8 mm slide (the faces hidden at its start) is an ALIGN (CoplanarNode.compare)."""
-    sc, _, actions = watch_file(DATA / "align-short-slide.yaml")
+@pytest.mark.parametrize("name,aligns", [
+    # an 8 mm slide, the faces hidden at its start (CoplanarNode.compare)
+    ("align-short-slide.yaml", [["NO-OP"], ["ALIGN"]]),
+    # a slid block measured 5.5 mm into its neighbour at the release (OVERLAP_MM)
+    ("align-south-then-east.yaml", [["NO-OP"], ["ALIGN"], ["ALIGN"]]),
+], ids=["8mm-slide", "measured-into-its-neighbour"])
+def test_a_slide_into_line_is_an_align(name, aligns):
+    sc, _, actions = watch_file(DATA / name)
     assert_sequence(sc, actions)
     fine = [[f["operation"] for f in op["fine"]] for op in actions["operations"]
             if op["special"] and op["fine"]]
-    assert fine == [["NO-OP"], ["ALIGN"]]
+    assert fine == aligns

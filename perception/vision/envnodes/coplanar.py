@@ -21,6 +21,9 @@ from perception.vision.vfd.base import Region3D
 from perception.vision.vfd.coplanar import CoplanarDetector
 
 CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for CoplDet)
+# ... or overlapping by up to this much: the held block's box comes from the hand at the
+# release, which tremor and the grip estimate put 5-8 mm into a neighbour it touches
+OVERLAP_MM = 12.0
 MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
 # ALIGN is a slide (Sec. V-B5): a block let go within SLID_MM (x, y) of where it came down
 # was put in line, not slid into it. The first snapshot is taken with the block still in
@@ -63,7 +66,8 @@ class CoplanarNode(EnvNodeBase):
                 overlap = (a.size[across] + b.size[across]) / 2 - abs(a.center[across]
                                                                       - b.center[across])
                 # side by side along this axis (not overlapping along it), faces across it
-                if abs(gap) > CONTACT_MM or overlap <= 0 or abs(a.lo[2] - b.lo[2]) > 10.0:
+                if not -OVERLAP_MM <= gap <= CONTACT_MM or overlap <= 0 \
+                        or abs(a.lo[2] - b.lo[2]) > 10.0:
                     continue
                 for face in faces:
                     offsets[(other.name, face)] = abs(_face(a, face) - _face(b, face))
