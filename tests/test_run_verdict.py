@@ -11,7 +11,7 @@ from lbw_engine.cli import main
 from lbw_engine.errors import InputError
 from lbw_engine.pipeline import run as runmod
 from lbw_engine.rules import load_rules
-from perception.world.groundtruth import expected_operations
+from perception.world.groundtruth import expected_operations, ground_truth
 from perception.world.scenario import load
 
 RULES = load_rules()
@@ -20,19 +20,41 @@ ROOT = Path(__file__).resolve().parent.parent
 SCENARIO = ROOT / "scenarios" / "place-and-align.yaml"
 
 
-def _ops(names):
-    return {"operations": [{"operation": n} for n in names]}
+def _ops(names, fine=None):
+    """actions.json operations; ``fine`` maps an index to its fine motions' operations."""
+    fine = fine or {}
+    return {"operations": [{"operation": n, "fine": [{"operation": f} for f in fine.get(i, ())]}
+                           for i, n in enumerate(names)]}
+
+
+def _true_fine(sc):
+    return {i: [f.operation for f in op.fine] for i, op in enumerate(ground_truth(sc, RULES))}
 
 
 def test_exact_counts_a_repeated_closing_operation_once():
     sc = load(SCENARIO)
     truth = list(expected_operations(sc, RULES))
-    split_leave = runmod.compare_with_truth(sc, _ops([*truth, truth[-1]]), RULES)
+    split_leave = runmod.compare_with_truth(sc, _ops([*truth, truth[-1]], _true_fine(sc)),
+                                            RULES)
     assert split_leave["exact"] and split_leave["difference"] == "identical"
     swapped = list(truth)
     swapped[1] = "NO-OP" if truth[1] != "NO-OP" else "PICK"
-    wrong = runmod.compare_with_truth(sc, _ops(swapped), RULES)
+    wrong = runmod.compare_with_truth(sc, _ops(swapped, _true_fine(sc)), RULES)
     assert not wrong["exact"] and wrong["difference"].startswith("at #1: expected")
+
+
+def test_a_lost_align_is_not_as_demonstrated():
+    """Every top-level operation right but the ALIGN read as a NO-OP: the plan lacks its
+    relation, so the recognition is not the demonstrated one (a user's 8 mm slide)."""
+    sc = load(SCENARIO)
+    truth = list(expected_operations(sc, RULES))
+    fine = _true_fine(sc)
+    at = next(i for i, ops in fine.items() if "ALIGN" in ops)
+    fine[at] = ["NO-OP" if f == "ALIGN" else f for f in fine[at]]
+    lost = runmod.compare_with_truth(sc, _ops(truth, fine), RULES)
+    assert not lost["exact"]
+    assert lost["difference"] == (f"at #{at}: expected fine motion(s) ALIGN in {truth[at]}, "
+                                  "got none")
 
 
 def test_a_recognition_that_does_not_verify_exits_1_with_all_files(tmp_path, monkeypatch):

@@ -64,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
     else:  # evaluation only: the scenario says what was demonstrated
         from lbw_engine.pipeline.run import compare_with_truth, with_repair
 
-        same = with_repair(compare_with_truth(scenario, raw, rules), repaired)["repair"]
+        same = with_repair(compare_with_truth(scenario, raw, rules), repaired, rules)["repair"]
         if not same["exact"]:
             problems.append(f"the sequence is not the demonstrated one ({same['difference']})")
     if problems:

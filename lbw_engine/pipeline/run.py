@@ -77,15 +77,37 @@ def compare_with_truth(scenario: Any, actions: dict[str, Any], rules: RuleSet
     """The recognized top-level sequence against the ground truth (evaluation only): what
     the same rules make of perfect detectors (perception.world.groundtruth)."""
     from lbw_engine.report.metrics import compare_sequence
-    from perception.world.groundtruth import expected_operations
+    from perception.world.groundtruth import ground_truth
 
-    expected = expected_operations(scenario, rules)
+    truth = ground_truth(scenario, rules)
+    expected = [op.operation for op in truth]
     recognized = [op["operation"] for op in actions["operations"]]
     # The bench's definition (lbw_engine/report/metrics.py): a repeated closing
     # operation counts once (the hand leaving may be split, Fig. 12).
     same = compare_sequence([{"operation": op} for op in expected], actions["operations"])
-    return {"expected": expected, "recognized": recognized, "exact": same["exact"],
-            "difference": same["difference"]}
+    # the fine motions that change the environment model (an ALIGN's relation), per operation
+    fine = [sorted({f.operation for f in op.fine if f.operation in rules.effects})
+            for op in truth]
+    out = {"expected": expected, "expected_fine": fine, "recognized": recognized,
+           "exact": same["exact"], "difference": same["difference"]}
+    return with_fine(out, actions["operations"], rules)
+
+
+def with_fine(result: dict[str, Any], ops: list[dict[str, Any]], rules: RuleSet
+              ) -> dict[str, Any]:
+    """``result`` not exact if some operation's fine motions that change the environment
+    model differ from the demonstrated ones: a lost ALIGN leaves every top-level operation
+    right, and the plan without its relation."""
+    if not result["exact"]:
+        return result
+    for i, (want, op) in enumerate(zip(result["expected_fine"], ops, strict=False)):
+        got = sorted({f["operation"] for f in op.get("fine", ()) if f["operation"]
+                      in rules.effects})
+        if got != want:
+            return {**result, "exact": False,
+                    "difference": f"at #{i}: expected fine motion(s) {'/'.join(want) or 'none'}"
+                                  f" in {op['operation']}, got {'/'.join(got) or 'none'}"}
+    return result
 
 
 def foreign_objects(scenario: Any, actions: dict[str, Any]) -> str | None:
@@ -117,7 +139,8 @@ def _named(op: dict[str, Any]) -> list[str]:
     return [n for n in names if isinstance(n, str)]
 
 
-def with_repair(recognition: dict[str, Any], repaired: Any) -> dict[str, Any]:
+def with_repair(recognition: dict[str, Any], repaired: Any, rules: RuleSet
+                ) -> dict[str, Any]:
     """``recognition`` (the raw comparison) with ``repair``: the repaired sequence against
     the same expected one (docs/repair.md). Without repairs it is the raw sequence."""
     from lbw_engine.report.metrics import compare_sequence
@@ -127,6 +150,9 @@ def with_repair(recognition: dict[str, Any], repaired: Any) -> dict[str, Any]:
     if repaired.repairs:
         same = compare_sequence([{"operation": op} for op in recognition["expected"]],
                                 repaired.actions["operations"])
+        same = with_fine({**recognition, "exact": same["exact"],
+                          "difference": same["difference"]},
+                         repaired.actions["operations"], rules)
         after.update(recognized=repaired.operations, exact=same["exact"],
                      difference=same["difference"])
     else:
@@ -178,7 +204,7 @@ def run(scenario: Any, rules_dir: Any = None, fps: float = 30.0,
     repaired = repair(raw, rules)
     actions = repaired.actions
     result = RunResult(scenario, actions,
-                       with_repair(compare_with_truth(scenario, raw, rules), repaired),
+                       with_repair(compare_with_truth(scenario, raw, rules), repaired, rules),
                        rules=rules, raw=raw)
     result.seconds["watch"] = time.perf_counter() - clock
     failures = result.phases
