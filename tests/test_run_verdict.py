@@ -23,7 +23,8 @@ SCENARIO = ROOT / "scenarios" / "place-and-align.yaml"
 def _ops(names, fine=None):
     """actions.json operations; ``fine`` maps an index to its fine motions' operations."""
     fine = fine or {}
-    return {"operations": [{"operation": n, "fine": [{"operation": f} for f in fine.get(i, ())]}
+    return {"operations": [{"operation": n, "fine": [{"operation": f, "t_end": 1.0}
+                                                     for f in fine.get(i, ())]}
                            for i, n in enumerate(names)]}
 
 
@@ -175,3 +176,25 @@ def test_relations_on_objects_not_in_the_teach_workspace_fail_recognition(relati
         assert found is None
     else:
         assert wrong in found and found.startswith("op01: ")
+
+
+
+def test_an_align_set_down_in_line_is_no_slide():
+    """An align whose `at` is within rules/constants.yaml align-slide of where the slide
+    would end is a place already in line: the ground truth, like the eye (CoplDet),
+    expects no ALIGN there, and the bench's align score asks for none."""
+    from lbw_engine.cli.bench import true_aligns
+    from perception.world.scenario import load_text
+
+    least = float(RULES.constants["align-slide"])
+    sc = load(SCENARIO)
+    step = next(s for s in sc.demonstration if s.align)
+    assert step.slides(least) and true_aligns(sc, RULES) == {frozenset({"block1", "block2"})}
+    x, y = step.final[0] + 1.0, step.final[1]
+    text = SCENARIO.read_text().replace("at: [-45, 195]", f"at: [{x:.1f}, {y:.1f}]")
+    short = load_text(text, "short-slide.yaml")
+    step = next(s for s in short.demonstration if s.align)
+    assert not step.slides(least) and true_aligns(short, RULES) == set()
+    fine = [f.operation for op in ground_truth(short, RULES) for f in op.fine]
+    assert "ALIGN" not in fine and "ALIGN" in [f.operation for op in ground_truth(sc, RULES)
+                                               for f in op.fine]

@@ -126,21 +126,26 @@ def true_final(scenario: Any, roles: Any) -> set:
     return {f for f in facts if f[0] in moved}
 
 
-def true_aligns(scenario: Any) -> set:
-    """Unordered pairs of the objects the demonstration slid into line (design.md align)."""
-    return {frozenset((s.obj, s.align.with_)) for s in scenario.demonstration if s.align}
+def true_aligns(scenario: Any, rules: Any) -> set:
+    """Unordered pairs of the objects the demonstration slid into line (design.md align),
+    by at least rules/constants.yaml ``align-slide``."""
+    least = float(rules.constants["align-slide"])
+    return {frozenset((s.obj, s.align.with_)) for s in scenario.demonstration
+            if s.slides(least)}
 
 
 def place_errors(sc: Any, roles: Any, true_ops: list, ops: list[dict[str, Any]]) -> list[float]:
-    """How far (x, y; mm) each place measured its block from where the block came to rest,
-    for a sequence recognized as long as the true one (else the ops do not pair up)."""
+    """How far (x, y; mm) each place measured its block from where the scenario puts it
+    (the demonstration's script; tremor moves the real block by up to a few mm at 4x),
+    for a sequence recognized as long as the true one, pairing operations of one kind."""
     if len(true_ops) != len(ops):
         return []
     out = []
     for t, op in zip(true_ops, ops, strict=True):
         if t.step < 0 or not t.special or sc.demonstration[t.step].kind != "place" \
-                or any(r[0] == roles.hold for r in t.final_relations):
-            continue  # not the motion that let the block go
+                or any(r[0] == roles.hold for r in t.final_relations) \
+                or op.get("operation") != t.operation:
+            continue  # not the motion that let the block go (or not recognized as one)
         name = t.special[0]
         measured = (op.get("final_state") or {}).get("positions", {}).get(name)
         rest = sc.states[t.step].center.get(name)
@@ -202,7 +207,7 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
         rename = teach_rename(result.actions, sc)
         # the supports, and the aligns: a lost ALIGN leaves every support right
         rec["aligns_correct"] = plan_fine_pairs(
-            result.plan, fine_relations(rules), rename) == true_aligns(sc)
+            result.plan, fine_relations(rules), rename) == true_aligns(sc, rules)
         rec["plan_correct"] = rec["aligns_correct"] and plan_final_relations(
             result.plan, rules.roles.support, rename) == true_final(sc, rules.roles)
     if result.execution is not None and not wrong:

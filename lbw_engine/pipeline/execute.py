@@ -102,7 +102,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     except TaskFailed as exc:
         # nothing was executed: the plan's structure is not there (design.md: booleans)
         report.update(stage="instantiation", failure=f"instantiation: {exc}", mismatches=[],
-                      verification={"cameras": False, "ground_truth": False})
+                      verification={"cameras": False, "ground_truth": False},
+                      faults_not_injected=FaultInjector(None, sc.faults, {}).missed())
         return ExecutionResult(False, str(exc), f";;; no commands: {exc}\n", report, None, views,
                                "instantiation")
     shape_of = {n: taught[n]["shape"] for n in matching.assigned}

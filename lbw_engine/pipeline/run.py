@@ -102,7 +102,7 @@ def with_fine(result: dict[str, Any], ops: list[dict[str, Any]], rules: RuleSet
         return result
     for i, (want, op) in enumerate(zip(result["expected_fine"], ops, strict=False)):
         got = sorted({f["operation"] for f in op.get("fine", ()) if f["operation"]
-                      in rules.effects})
+                      in rules.effects and f.get("t_end") is not None})  # as the truth
         if got != want:
             return {**result, "exact": False,
                     "difference": f"at #{i}: expected fine motion(s) {'/'.join(want) or 'none'}"

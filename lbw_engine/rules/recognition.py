@@ -297,6 +297,7 @@ CONSTANTS: dict[str, tuple[str, float, float]] = {
     "place-overlap-limit": ("number", 0.0, 50.0),  # mm
     "hand-velocity-window": ("number", 0.05, 2.0),  # s
     "far-margin": ("number", 5.0, 300.0),  # mm
+    "align-slide": ("number", 0.0, 100.0),  # mm
 }
 
 

@@ -107,7 +107,7 @@ class FaultInjector:
         self.names = names
         self.achieve = 0  # the ACHIEVE under way (1-based), 0 before the first
         self.injected: list[dict] = []
-        self._applied: list[Fault] = []
+        self._applied: set[int] = set()  # indices into ``faults``
         self._peak = 0.0
         self._armed: Fault | None = None
 
@@ -155,8 +155,8 @@ class FaultInjector:
         """The scenario's faults that never fired (their ACHIEVE never ran, or their object
         was gone), as written: a user must not believe a fault was tried when it was not."""
         out = []
-        for f in self.faults:
-            if f not in self._applied:
+        for i, f in enumerate(self.faults):
+            if i not in self._applied:
                 when = "during" if f.kind == "drop" else "after"
                 out.append({"kind": f.kind, when: f.when, **({"object": f.obj} if f.obj else {}),
                             **({"line": f.line} if f.line is not None else {})})
@@ -164,7 +164,7 @@ class FaultInjector:
 
     def _record(self, f: Fault, off_table: bool = False) -> None:
         """Note an injected fault (evaluation only: the robot never reads it)."""
-        self._applied.append(f)
+        self._applied.add(next(i for i, g in enumerate(self.faults) if g is f))
         rec: dict[str, Any] = {"kind": f.kind, "achieve": self.achieve,
                                "t": round(self.world.time, 2)}
         if f.obj:

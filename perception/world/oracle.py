@@ -44,9 +44,10 @@ DT = 1e-3  # s: the finite difference of the planned path that gives the hand's 
 class _Steps:
     """The demonstrator's schedule by step: transfer, fine motions, depart, their times."""
 
-    def __init__(self, scenario: Any, demo: Demonstration) -> None:
-        """Index the schedule of ``demo`` (a Demonstration of ``scenario``)."""
-        self.sc, self.demo = scenario, demo
+    def __init__(self, scenario: Any, demo: Demonstration, slide: float = 0.0) -> None:
+        """Index the schedule of ``demo`` (a Demonstration of ``scenario``); ``slide`` is the
+        least slide that is an align (rules/constants.yaml ``align-slide``)."""
+        self.sc, self.demo, self.slide = scenario, demo, slide
         self.segments: dict[int, list[Segment]] = {}
         for seg in demo.segments:
             self.segments.setdefault(seg.step, []).append(seg)
@@ -203,7 +204,8 @@ class _Coplanar(OracleNode):
         """1 when the step's fine motion slid its object into line with another (ALIGN)."""
         i = self.steps.step_at(act.since)
         step = self.steps.sc.demonstration[i] if i is not None else None
-        if step is None or step.align is None or not first <= self.steps.fine(i)[1] <= last:
+        if step is None or not step.slides(self.steps.slide) \
+                or not first <= self.steps.fine(i)[1] <= last:
             return Detection(value=0)
         return Detection(value=1, found=(step.align.with_,))
 
@@ -217,7 +219,7 @@ def oracle_recognizer(scenario: Any, rules: RuleSet, demo: Demonstration | None 
                       fps: float = 30.0) -> Recognizer:
     """The recognizer run with ``rules`` on the oracle registry over the demonstration."""
     demo = demo or Demonstration(scenario, fps=fps)
-    steps = _Steps(scenario, demo)
+    steps = _Steps(scenario, demo, float(rules.constants["align-slide"]))
     provided = {name: cls(steps, name) for name, cls in ORACLES.items()}
     recognizer = Recognizer(rules, DetectorRegistry.for_rules(rules, provided))
     n = int(math.floor(demo.duration * fps)) + 1

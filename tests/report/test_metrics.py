@@ -204,3 +204,28 @@ def test_the_bench_scores_a_plans_aligns():
     assert plan_fine_pairs(aligned, relations, {"block2": "b2"}) == {frozenset({"block1", "b2"})}
     tower = json.loads((data / "tower.plan.json").read_text())
     assert plan_fine_pairs(tower, relations) == set()
+
+
+def test_place_errors_pair_places_of_one_kind_only():
+    """The bench's place error (lbw_engine/cli/bench.py place_errors): a recognized place
+    against the scripted spot; an operation of another kind at that index is no place."""
+    from types import SimpleNamespace as NS
+
+    from lbw_engine.cli.bench import place_errors
+    from lbw_engine.rules import load_rules
+
+    roles = load_rules().roles
+    sc = NS(demonstration=[NS(kind="pick"), NS(kind="place")],
+            states=[NS(center={"b": (0.0, 0.0, 10.0)}), NS(center={"b": (30.0, 40.0, 10.0)})])
+    truth = [NS(step=0, special=(), final_relations=[[roles.hold, "hand", "b"]],
+                operation="PICK"),
+             NS(step=1, special=("b",), final_relations=[[roles.single, "b", "table"]],
+                operation="PLACE-ON-TABLE")]
+
+    def ops(second):
+        return [{"operation": "PICK", "final_state": {"positions": {"b": [0, 0, 10]}}},
+                {"operation": second, "final_state": {"positions": {"b": [33.0, 44.0, 10]}}}]
+
+    assert place_errors(sc, roles, truth, ops("PLACE-ON-TABLE")) == [5.0]
+    assert place_errors(sc, roles, truth, ops("NO-OP")) == []
+    assert place_errors(sc, roles, truth, ops("PLACE-ON-TABLE")[:1]) == []

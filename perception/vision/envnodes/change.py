@@ -211,8 +211,9 @@ class ChangeNode(EnvNodeBase):
 
     def seen(self, node: EnvNode, env: EnvModel) -> bool | None:
         """Whether a block is still where the environment model has it, in the current
-        frame: True if a view that sees it plainly shows its outline bright, False if
-        such a view shows it empty (and none bright), None if no view tells."""
+        frame: True if the side view sees it plainly with its outline bright, False if
+        a view that sees it plainly shows it empty (and none bright), None if no view
+        tells."""
         self.detector.attention(box(node))
         shot = self.detector.take(self.sight.frame)
         others = _boxes_but(env, {node.name} | set(env.held()))
@@ -223,10 +224,12 @@ class ChangeNode(EnvNodeBase):
             clear = outline & ~band(img, *HAND_BAND) & ~regions_mask(cam, others, window)
             if not outline.any() or clear.sum() < KEPT * outline.sum():
                 continue
-            # kept: block faces; gone: not even a crease or the arm's gray is left
+            # kept: block faces; gone: not even a crease or the arm's gray is left. The top
+            # view cannot say kept: a stack lifted straight up still covers its footprint.
             bright = float((clear & (img >= BLOCK_MIN)).sum()) / float(clear.sum())
             lit = float((clear & (img > DARK_MAX)).sum()) / float(clear.sum())
-            verdicts.add(True if bright >= KEPT else False if lit <= GONE else None)
+            kept = bright >= KEPT and view == "side"
+            verdicts.add(True if kept else False if lit <= GONE else None)
         return True if True in verdicts else False if False in verdicts else None
 
     def unexplained(self, act: ActView, env: EnvModel) -> float:
@@ -266,19 +269,22 @@ class ChangeNode(EnvNodeBase):
         with the projected box (its eight corners), not read as the block's ends.
         """
         ext = self.detector.extent.get("side")
-        if ext is None:
-            return x
+        if ext is None or not self.detector.appeared.get("side"):
+            return x  # the side view's change is not the block appearing
         cam = self.sight.cameras["side"]
         seen = (ext[0] - 0.5, ext[1] + 0.5)  # the changed columns' outer pixel edges
         half = np.asarray(size, float) / 2.0
         corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+        fitted = x
         for _ in range(2):  # the projection is nearly affine over a few mm: two steps
-            u = cam.project(np.array([x, yz[0], yz[1]]) + corners * half)[:, 0]
+            u = cam.project(np.array([fitted, yz[0], yz[1]]) + corners * half)[:, 0]
             span = float(u.max() - u.min())
             if abs((seen[1] - seen[0]) - span) > EXTENT_SLACK_MM * span / float(size[0]):
                 return x
-            x += ((seen[0] + seen[1]) - float(u.max() + u.min())) / 2.0 * float(size[0]) / span
-        return x
+            fitted += ((seen[0] + seen[1]) - float(u.max() + u.min())) / 2.0 * \
+                float(size[0]) / span
+        # the centroid's biases are a few mm; a larger move means the span is something else
+        return fitted if abs(fitted - x) <= FIT_SLACK_MM else x
 
     def placed_x(self, changed: float, released: float, yz: tuple[float, float],
                  size: Sequence[float], last: Snapshot) -> float:

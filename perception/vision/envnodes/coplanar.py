@@ -4,7 +4,7 @@ A FineMotion's snapshots list the (neighbour, face) pairs whose vertical faces
 are coplanar with the moved block's, judged from edge junctions in the image
 (perception/vision/vfd/coplanar.py); the comparison answers the temporal
 difference of the truth value (Table V caption): 1 when a coplanar pair
-appeared as the block slid (ALIGN; ``SLID_MM``), -1 when one was lost, 0
+appeared as the block slid (ALIGN; rules ``align-slide``), -1 when one was lost, 0
 otherwise, and names the neighbours.
 """
 
@@ -25,12 +25,10 @@ CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for
 # release, which tremor and the grip estimate put 5-8 mm into a neighbour it touches
 OVERLAP_MM = 12.0
 MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
-# ALIGN is a slide (Sec. V-B5): a block let go within SLID_MM (x, y) of where it came down
-# was put in line, not slid into it. The first snapshot is taken with the block still in
-# the air, where no face pair is judged, so every block set down flush with a neighbour
-# read as an ALIGN (a user's row of cubes 5 mm apart along y). Demonstrated aligns set
-# the block down 8 mm and more from its neighbour (the generator's align family).
-SLID_MM = 4.0
+# ALIGN is a slide (Sec. V-B5): a block let go within rules/constants.yaml `align-slide`
+# (x, y) of where it came down was put in line, not slid into it. The first snapshot is
+# taken with the block still in the air, where no face pair is judged, so every block set
+# down flush with a neighbour read as an ALIGN (a user's row of cubes 5 mm apart along y).
 
 
 
@@ -53,9 +51,9 @@ class CoplanarNode(EnvNodeBase):
         # where the hand let go of it (or holds it now): it stays there (Sec. V-B5)
         held = self.hand.held_box(env, at=self.hand.let_go(act.since))
         if held is None or self.sight.frame is None:
-            return {"pairs": set(), "hidden": False, "at": None, "offsets": {}}
+            return {"pairs": set(), "hidden": False, "at": None, "offsets": {}, "modelled": set()}
         node, a = held
-        out, hidden, offsets = set(), False, {}
+        out, hidden, offsets, modelled = set(), False, {}, set()
         for other in env.objects():
             if other.name == node.name or other.position is None or other.size is None:
                 continue
@@ -75,11 +73,12 @@ class CoplanarNode(EnvNodeBase):
                     if self.detector.step_mm is None:  # the palm or a finger hides an edge
                         hidden = True
                         seen = abs(_face(a, face) - _face(b, face)) <= MODEL_TOLERANCE_MM
+                        modelled.add((other.name, face))
                     if seen:
                         out.add((other.name, face))
         self.detector.free()
         return {"pairs": out, "hidden": hidden, "at": (float(a.center[0]), float(a.center[1])),
-                "offsets": offsets}
+                "offsets": offsets, "modelled": modelled}
 
     def snapshot(self, act: ActView, env: EnvModel) -> Any:
         """Coplanar face pairs now."""
@@ -93,18 +92,21 @@ class CoplanarNode(EnvNodeBase):
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
         """positive: a coplanar pair appeared as the block slid; negative: one was lost;
         else unchanged."""
+        first_status = first
         start = first.get("at") if first else None
         end = last.get("at") if last else None
         before = first.get("offsets", {}) if first else {}
         after = last.get("offsets", {}) if last else {}
         first = first["pairs"] if first else set()
         last = last["pairs"] if last else set()
-        # A pair coplanar at both ends appeared too if the slide brought its faces SLID_MM
-        # closer: at the start the fingers hide the faces, and the measured boxes then
-        # call faces 8 mm apart coplanar (MODEL_TOLERANCE_MM; a user's 8 mm slide).
+        # A pair coplanar at both ends appeared too if, at the start, the fingers hid its
+        # faces (the measured boxes then call faces 8 mm apart coplanar, MODEL_TOLERANCE_MM;
+        # a user's 8 mm slide) and the slide brought them `align-slide` closer.
+        slid = float(self.rules.constants["align-slide"])
+        modelled = first_status.get("modelled", set()) if first_status else set()
         appeared = {p for p in last if p not in first
-                    or before.get(p, 0.0) - after.get(p, 0.0) >= SLID_MM}
-        if start is not None and end is not None and math.dist(start, end) < SLID_MM:
+                    or (p in modelled and before.get(p, 0.0) - after.get(p, 0.0) >= slid)}
+        if start is not None and end is not None and math.dist(start, end) < slid:
             appeared = set()  # put down flush where it came down: not slid into line
         sign = 1 if appeared else -1 if first - last else 0
         # the neighbours whose faces became coplanar with the moved block's (ALIGN's `found`)

@@ -61,8 +61,10 @@ class ChangeDetector(VFD):
         self._first: Snapshot | None = None
         self.result: str | None = None
         self.changed_fraction: dict[str, float] = {}
-        # per view, the image columns (first, last) where the last judge's change is solid
+        # per view, the image columns (first, last) where the last judge's change is solid,
+        # and whether that change was pixels appearing (else vanishing)
         self.extent: dict[str, tuple[int, int]] = {}
+        self.appeared: dict[str, bool] = {}
 
     def take(self, frame: Frame) -> Snapshot:
         """A snapshot of the current region's windows on ``frame``."""
@@ -105,6 +107,7 @@ class ChangeDetector(VFD):
             votes[v] = net
             self.changed_fraction[v] = abs(net)
             changed = appeared if net > 0 else gone
+            self.appeared[v] = net > 0
             # Object pixels of the later (appeared) or earlier (gone) snapshot that the hand
             # covered in the other one: the change there cannot be seen.
             covered = hand_a & ~hand_b & (b > DARK_MAX) if net > 0 else \
