@@ -183,18 +183,19 @@ def test_an_align_set_down_in_line_is_no_slide():
     """An align whose `at` is within rules/constants.yaml align-slide of where the slide
     would end is a place already in line: the ground truth, like the eye (CoplDet),
     expects no ALIGN there, and the bench's align score asks for none."""
-    from lbw_engine.cli.bench import true_aligns
+    from lbw_engine.cli.benchscore import true_aligns
+    from perception.world.layout import slides
     from perception.world.scenario import load_text
 
     least = float(RULES.constants["align-slide"])
     sc = load(SCENARIO)
     step = next(s for s in sc.demonstration if s.align)
-    assert step.slides(least) and true_aligns(sc, RULES) == {frozenset({"block1", "block2"})}
+    assert slides(step, least) and true_aligns(sc, RULES) == {frozenset({"block1", "block2"})}
     x, y = step.final[0] + 1.0, step.final[1]
     text = SCENARIO.read_text().replace("at: [-45, 195]", f"at: [{x:.1f}, {y:.1f}]")
     short = load_text(text, "short-slide.yaml")
     step = next(s for s in short.demonstration if s.align)
-    assert not step.slides(least) and true_aligns(short, RULES) == set()
+    assert not slides(step, least) and true_aligns(short, RULES) == set()
     fine = [f.operation for op in ground_truth(short, RULES) for f in op.fine]
     assert "ALIGN" not in fine and "ALIGN" in [f.operation for op in ground_truth(sc, RULES)
                                                for f in op.fine]

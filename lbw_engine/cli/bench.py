@@ -38,6 +38,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from lbw_engine.cli.benchscore import place_errors, true_aligns, true_final
 from lbw_engine.cli.benchset import LEVELS, parse_families, tasks  # noqa: F401 (re-exported)
 from lbw_engine.cli.cluster import executor, local_workers
 from lbw_engine.errors import InputError
@@ -50,7 +51,6 @@ from lbw_engine.report.metrics import (
     plan_final_relations,
     plan_fine_pairs,
     summarize,
-    support_facts,
 )
 
 HELP = "benchmark watch → analyze → execute on seeded random scenarios at three noise levels"
@@ -116,41 +116,6 @@ def teach_rename(actions: dict[str, Any], scenario: Any) -> dict[str, str]:
             continue
         at = obj["position"]
         out[name] = min(same, key=lambda no: math.dist(at, no[1].center[:len(at)]))[0]
-    return out
-
-
-def true_final(scenario: Any, roles: Any) -> set:
-    """(object, supports) after the demonstration, for every object the hand moved."""
-    moved = {s.obj for s in scenario.demonstration if s.kind == "pick"}
-    facts = support_facts(scenario.states[-1].relations(roles), roles.support)
-    return {f for f in facts if f[0] in moved}
-
-
-def true_aligns(scenario: Any, rules: Any) -> set:
-    """Unordered pairs of the objects the demonstration slid into line (design.md align),
-    by at least rules/constants.yaml ``align-slide``."""
-    least = float(rules.constants["align-slide"])
-    return {frozenset((s.obj, s.align.with_)) for s in scenario.demonstration
-            if s.slides(least)}
-
-
-def place_errors(sc: Any, roles: Any, true_ops: list, ops: list[dict[str, Any]]) -> list[float]:
-    """How far (x, y; mm) each place measured its block from where the scenario puts it
-    (the demonstration's script; tremor moves the real block by up to a few mm at 4x),
-    for a sequence recognized as long as the true one, pairing operations of one kind."""
-    if len(true_ops) != len(ops):
-        return []
-    out = []
-    for t, op in zip(true_ops, ops, strict=True):
-        if t.step < 0 or not t.special or sc.demonstration[t.step].kind != "place" \
-                or any(r[0] == roles.hold for r in t.final_relations) \
-                or op.get("operation") != t.operation:
-            continue  # not the motion that let the block go (or not recognized as one)
-        name = t.special[0]
-        measured = (op.get("final_state") or {}).get("positions", {}).get(name)
-        rest = sc.states[t.step].center.get(name)
-        if measured is not None and rest is not None:
-            out.append(round(math.dist(measured[:2], rest[:2]), 2))
     return out
 
 

@@ -9,6 +9,7 @@ agree with it (tests/world checks that).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
@@ -234,3 +235,11 @@ def _place(lay: Layout, step: Any, i: int) -> Any:
             raise ValueError(exc.args[0], i, key if step.align or key != "align" else "on") \
                 from None
     return replace(step, dest=dest, final=final)
+
+
+def slides(step: Any, least: float) -> bool:
+    """Whether a demonstration step aligns its block by sliding it at least ``least`` mm
+    (x, y) from where it was set down: a shorter one is a place already in line."""
+    if step.align is None or step.dest is None or step.final is None:
+        return False
+    return math.dist(step.dest[:2], step.final[:2]) >= least

@@ -37,6 +37,7 @@ from lbw_engine.see.detectors import ActView, Detection, DetectorRegistry, Objec
 from lbw_engine.see.recognizer import Recognizer
 from perception.vision.vfd.change import APPEARED, DISAPPEARED, NO_CHANGE
 from perception.world.demonstrator import Demonstration, Segment
+from perception.world.layout import slides
 
 DT = 1e-3  # s: the finite difference of the planned path that gives the hand's velocity
 
@@ -204,7 +205,7 @@ class _Coplanar(OracleNode):
         """1 when the step's fine motion slid its object into line with another (ALIGN)."""
         i = self.steps.step_at(act.since)
         step = self.steps.sc.demonstration[i] if i is not None else None
-        if step is None or not step.slides(self.steps.slide) \
+        if step is None or not slides(step, self.steps.slide) \
                 or not first <= self.steps.fine(i)[1] <= last:
             return Detection(value=0)
         return Detection(value=1, found=(step.align.with_,))

@@ -10,7 +10,6 @@ replay the demonstration symbolically in ``perception.world.layout``.
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -82,13 +81,6 @@ class Step:
     final: tuple[float, float, float] | None = None  # place: centre after the align slide
     line: int | None = None
     where: str = ""
-
-    def slides(self, least: float) -> bool:
-        """Whether this step aligns its block by sliding it at least ``least`` mm (x, y)
-        from where it was set down: a shorter one is a place already in line."""
-        if self.align is None or self.dest is None or self.final is None:
-            return False
-        return math.dist(self.dest[:2], self.final[:2]) >= least
 
 
 @dataclass(frozen=True)

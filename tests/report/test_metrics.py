@@ -211,7 +211,7 @@ def test_place_errors_pair_places_of_one_kind_only():
     against the scripted spot; an operation of another kind at that index is no place."""
     from types import SimpleNamespace as NS
 
-    from lbw_engine.cli.bench import place_errors
+    from lbw_engine.cli.benchscore import place_errors
     from lbw_engine.rules import load_rules
 
     roles = load_rules().roles

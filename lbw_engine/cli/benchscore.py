@@ -1,0 +1,50 @@
+"""How the benchmark scores one scenario against its truth (evaluation only).
+
+The demonstration's script (a perception.world.scenario.Scenario) says what was built;
+these read it next to what the pipeline learned: the final supports of the moved objects,
+the aligns, and how far each recognized place put its block.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from lbw_engine.report.metrics import support_facts
+
+
+def true_final(scenario: Any, roles: Any) -> set:
+    """(object, supports) after the demonstration, for every object the hand moved."""
+    moved = {s.obj for s in scenario.demonstration if s.kind == "pick"}
+    facts = support_facts(scenario.states[-1].relations(roles), roles.support)
+    return {f for f in facts if f[0] in moved}
+
+
+def true_aligns(scenario: Any, rules: Any) -> set:
+    """Unordered pairs of the objects the demonstration slid into line (design.md align),
+    by at least rules/constants.yaml ``align-slide``."""
+    from perception.world.layout import slides
+
+    least = float(rules.constants["align-slide"])
+    return {frozenset((s.obj, s.align.with_)) for s in scenario.demonstration
+            if slides(s, least)}
+
+
+def place_errors(sc: Any, roles: Any, true_ops: list, ops: list[dict[str, Any]]) -> list[float]:
+    """How far (x, y; mm) each place measured its block from where the scenario puts it
+    (the demonstration's script; tremor moves the real block by up to a few mm at 4x),
+    for a sequence recognized as long as the true one, pairing operations of one kind."""
+    if len(true_ops) != len(ops):
+        return []
+    out = []
+    for t, op in zip(true_ops, ops, strict=True):
+        if t.step < 0 or not t.special or sc.demonstration[t.step].kind != "place" \
+                or any(r[0] == roles.hold for r in t.final_relations) \
+                or op.get("operation") != t.operation:
+            continue  # not the motion that let the block go (or not recognized as one)
+        name = t.special[0]
+        measured = (op.get("final_state") or {}).get("positions", {}).get(name)
+        rest = sc.states[t.step].center.get(name)
+        if measured is not None and rest is not None:
+            out.append(round(math.dist(measured[:2], rest[:2]), 2))
+    return out
