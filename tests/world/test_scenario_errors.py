@@ -81,8 +81,6 @@ ROWS = [
      "teach.demonstration[0].at", "unknown key 'at'"),
     ("pick-while-holding", _steps("    - pick: a\n    - pick: b\n"), 13,
      "teach.demonstration[1].pick", "while holding 'a'"),
-    ("touch-while-holding", _steps("    - pick: a\n    - touch: b\n"), 13,
-     "teach.demonstration[1].touch", "while holding 'a' (a touch is made with an empty hand)"),
     ("place-not-held", _steps("    - place: a\n      on: table\n      at: [0, 150]\n"), 12,
      "teach.demonstration[0].place", "the hand holds nothing"),
     ("place-other-than-held", _steps("    - pick: a\n    - place: b\n      on: table\n"
