@@ -192,10 +192,10 @@ class ChangeNode(EnvNodeBase):
             return ()
         node, taken = targets[0], None
         while True:
-            below = [n for n in env.get(env.supports_of(node.name)) if n.kind == "Loc"
+            supports = env.supports_of(node.name)
+            below = [n for n in env.get(supports) if n.kind == "Loc"
                      and n.position is not None and n.size is not None]
-            if len(env.supports_of(node.name)) != 1 or not below or self.seen(below[0], env) \
-                    is not False:
+            if len(supports) != 1 or not below or self.seen(below[0], env) is not False:
                 break
             taken = node = below[0]
         if taken is not None:

@@ -68,11 +68,11 @@ class CoplanarNode(EnvNodeBase):
                         or abs(a.lo[2] - b.lo[2]) > 10.0:
                     continue
                 for face in faces:
-                    offsets[(other.name, face)] = abs(_face(a, face) - _face(b, face))
+                    offset = offsets[(other.name, face)] = abs(_face(a, face) - _face(b, face))
                     seen = self.detector.check(self.sight.frame, a, b, face)
                     if self.detector.step_mm is None:  # the palm or a finger hides an edge
                         hidden = True
-                        seen = abs(_face(a, face) - _face(b, face)) <= MODEL_TOLERANCE_MM
+                        seen = offset <= MODEL_TOLERANCE_MM
                         modelled.add((other.name, face))
                     if seen:
                         out.add((other.name, face))
@@ -92,18 +92,17 @@ class CoplanarNode(EnvNodeBase):
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
         """positive: a coplanar pair appeared as the block slid; negative: one was lost;
         else unchanged."""
-        first_status = first
         start = first.get("at") if first else None
         end = last.get("at") if last else None
         before = first.get("offsets", {}) if first else {}
         after = last.get("offsets", {}) if last else {}
+        modelled = first.get("modelled", set()) if first else set()
         first = first["pairs"] if first else set()
         last = last["pairs"] if last else set()
         # A pair coplanar at both ends appeared too if, at the start, the fingers hid its
         # faces (the measured boxes then call faces 8 mm apart coplanar, MODEL_TOLERANCE_MM;
         # a user's 8 mm slide) and the slide brought them `align-slide` closer.
         slid = float(self.rules.constants["align-slide"])
-        modelled = first_status.get("modelled", set()) if first_status else set()
         appeared = {p for p in last if p not in first
                     or (p in modelled and before.get(p, 0.0) - after.get(p, 0.0) >= slid)}
         if start is not None and end is not None and math.dist(start, end) < slid:
