@@ -55,7 +55,14 @@ def test_a_block_set_down_flush_without_a_slide_is_no_align():
     ("align-short-slide.yaml", [["NO-OP"], ["ALIGN"]]),
     # a slid block measured 5.5 mm into its neighbour at the release (OVERLAP_MM)
     ("align-south-then-east.yaml", [["NO-OP"], ["ALIGN"], ["ALIGN"]]),
-], ids=["8mm-slide", "measured-into-its-neighbour"])
+    # y-jaws at the table's end: x from the stereo palm, the level from the target
+    # (HandTracker._one_band, coplanar.settled)
+    ("align-across-the-camera.yaml", [["ALIGN"]]),
+    # the fingertips hidden by a block in front while the hand comes down
+    # (HandTracker._unhidden)
+    ("align-behind-a-block.yaml", [["ALIGN"]]),
+], ids=["8mm-slide", "measured-into-its-neighbour", "jaws-across-the-camera",
+        "behind-a-block"])
 def test_a_slide_into_line_is_an_align(name, aligns):
     sc, _, actions = watch_file(DATA / name)
     assert_sequence(sc, actions)

@@ -12,12 +12,15 @@ from perception.world.scene import Box
 CAMS = default_cameras()
 
 
-def hand(x: float, y: float, z: float, opening: float = 60.0) -> list[Box]:
-    """Palm and two fingers around the grip centre (x, y, z), fingertips 10 mm below it."""
+def hand(x: float, y: float, z: float, opening: float = 60.0, axis: int = 0) -> list[Box]:
+    """Palm and two fingers around the grip centre (x, y, z), fingertips 10 mm below it;
+    the jaws close along x (``axis`` 0) or y (1: the wrist turned)."""
     off = (opening + 10.0) / 2.0
+    fingers = ((x - off, y), (x + off, y)) if axis == 0 else ((x, y - off), (x, y + off))
+    size = (10.0, 20.0, 50.0) if axis == 0 else (20.0, 10.0, 50.0)
     return [Box("hand", (x, y, z + 55.0), (50.0, 50.0, 30.0), name="palm"),
-            Box("hand", (x - off, y, z + 15.0), (10.0, 20.0, 50.0), name="finger-left"),
-            Box("hand", (x + off, y, z + 15.0), (10.0, 20.0, 50.0), name="finger-right")]
+            *(Box("hand", (fx, fy, z + 15.0), size, name=f"finger-{side}")
+              for (fx, fy), side in zip(fingers, ("left", "right"), strict=True))]
 
 
 def block(x: float, y: float, size=(30.0, 30.0, 50.0), z0: float = 0.0) -> Box:

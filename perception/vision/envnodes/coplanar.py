@@ -24,6 +24,7 @@ CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for
 # ... or overlapping by up to this much: the held block's box comes from the hand at the
 # release, which tremor and the grip estimate put 5-8 mm into a neighbour it touches
 OVERLAP_MM = 12.0
+SETTLE_MM = 20.0  # a held block's bottom this near its target's top has come down onto it
 MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
 # ALIGN is a slide (Sec. V-B5): a block let go within rules/constants.yaml `align-slide`
 # (x, y) of where it came down was put in line, not slid into it. The first snapshot is
@@ -52,7 +53,7 @@ class CoplanarNode(EnvNodeBase):
         held = self.hand.held_box(env, at=self.hand.let_go(act.since))
         if held is None or self.sight.frame is None:
             return {"pairs": set(), "hidden": False, "at": None, "offsets": {}, "modelled": set()}
-        node, a = held
+        node, a = held[0], settled(held[1], act, env)
         out, hidden, offsets, modelled = set(), False, {}, set()
         for other in env.objects():
             if other.name == node.name or other.position is None or other.size is None:
@@ -111,6 +112,22 @@ class CoplanarNode(EnvNodeBase):
         # the neighbours whose faces became coplanar with the moved block's (ALIGN's `found`)
         found = tuple(sorted({name for name, _ in appeared}))
         return Detection(value=sign, found=found)
+
+
+def settled(a: Region3D, act: ActView, env: EnvModel) -> Region3D:
+    """The held block's box ``a``, set on the motion's target if it has come down to it.
+
+    The box hangs under the hand at the grip measured when it was picked up, and the
+    height of both carries the fingertips' error: 5-15 mm when the jaws close across the
+    side camera's line of sight (align bench 1009: the bottom 12 mm above the table at
+    the release). Faces are side by side only at one level, so the level comes from
+    what the block is put on instead.
+    """
+    tops = [env.nodes[n].top() for n in act.target if n in env.nodes]
+    if not tops:
+        return a
+    dz = max(tops) - float(a.lo[2])
+    return a.shifted(dz=dz) if abs(dz) <= SETTLE_MM else a
 
 
 def _face(region: Region3D, face: str) -> float:
