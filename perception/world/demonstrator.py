@@ -157,16 +157,25 @@ class _Planner:
     def plan(self) -> list[Segment]:
         """Segments for the whole demonstration."""
         lay = self.sc.teach.layout()
-        held_dz = 0.0
+        held_dz, held = 0.0, None
         for i, step in enumerate(self.sc.demonstration):
             size = lay.size[step.obj]
             top = _scene_top(lay)
-            if step.kind in ("pick", "touch"):
+            if step.kind == "touch" and held is not None:
+                # a touch with a block in hand: that block comes down onto the touched
+                # one and is lifted off again, still held (the wrist keeps its turn)
+                c = lay.center[step.obj]
+                load = lay.size[held]
+                grip = (c[0], c[1], c[2] + size[2] / 2 + load[2] / 2 + held_dz + HOVER)
+                self.local(i, grip, c[2] + size[2] / 2, top + load[2] + 20.0, (),
+                           [("fine", grip, 1.0, (), 0.6)])
+            elif step.kind in ("pick", "touch"):
                 c = lay.center[step.obj]
                 grip = _add(c, (0, 0, grasp_offset(size)))
                 fine = [("fine", grip, 1.0, ("close",) if step.kind == "pick" else (), 0.6)]
                 self.local(i, grip, c[2] + size[2] / 2, top, self.wrist(i, size), fine)
                 held_dz = grasp_offset(size)
+                held = step.obj if step.kind == "pick" else held
             else:
                 grip = _add(step.dest, (0, 0, held_dz + HOVER))
                 support_top = step.dest[2] - size[2] / 2
@@ -179,6 +188,7 @@ class _Planner:
                 fine.append(("fine", fine[-1][1] if fine else grip, 1.0,
                              ("open", pre_shape(size, axis=self.axis)), 0.6))
                 self.local(i, grip, support_top, carried, (), fine)
+                held = None
             lay = self.sc.states[i]
         exit_point = (math.copysign(480.0, self.p[0] or 1.0), self.p[1], 230.0)
         self.transfer(-1, exit_point, _scene_top(lay))

@@ -174,3 +174,19 @@ def test_bench_rejects_an_unknown_family(tmp_path, capsys):
     err = capsys.readouterr().err
     assert code == 2 and "--families: unknown family towers" in err and "Traceback" not in err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("family,seed", [("beams", 1006), ("bridge", 1043), ("rearrange", 1083),
+                                         ("small", 1136)])
+def test_families_draw_touches_with_a_block_in_hand(family, seed):
+    """A touch between a pick and its place: the carried block touches the support it is
+    then put on, at the place's spot (assemble._steps), so it is as feasible as the place."""
+    sc = load_text(generate(seed, family=family).text)
+    steps = sc.demonstration
+    carried = [(i, s) for i, s in enumerate(steps) if s.kind == "touch" and i > 0
+               and steps[i - 1].kind == "pick"]
+    assert carried
+    for i, touch in carried:
+        place = steps[i + 1]
+        assert place.kind == "place" and place.obj == steps[i - 1].obj
+        assert place.on == (touch.obj,)

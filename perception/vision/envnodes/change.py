@@ -21,6 +21,7 @@ from lbw_engine.model.env import EnvModel, EnvNode
 from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
+from perception.vision.envnodes.placement import placed_x, side_extent_x
 from perception.vision.vfd.base import (
     BLOCK_MIN,
     DARK_MAX,
@@ -51,11 +52,6 @@ PLAIN_VIEW, KEPT = 0.2, 0.5
 # A block of a picked target's stack has left with the hand when a view sees at least KEPT
 # of its outline clear of the hand and of other objects, and at most GONE of that lit.
 GONE = 0.1
-# A placed block's x: the changed area's centre and the release point disagreeing by more
-# than FIT_SLACK_MM are checked against the image; the release point needs a block-pixel
-# fraction FIT_MARGIN higher to win (see ChangeNode.placed_x).
-FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
-EXTENT_SLACK_MM = 4.0  # the side view's changed columns span the placed block's length
 # A place's change threshold is never asked of fewer changed pixels than a third of this
 # (sensor noise flips single pixels; a 10 mm cube fully in view changes about 10).
 MIN_CHANGE_PX = 6
@@ -129,8 +125,12 @@ class ChangeNode(EnvNodeBase):
         if not first or self.sight.frame is None:
             return None
         det, shot = self.detector, first["shot"]
-        det.attention(shot.region)
         place = bool(first.get("place"))
+        held = self.hand.held_box(env) if place else None
+        # the load still hangs under the hand: what it covers now is no placed block (a
+        # touch with a block in hand, the hand back over the spot at the :Far)
+        kept = held is not None and self.seen_at(held[1], {held[0].name}, env) is True
+        det.attention(shot.region)
         det.area_threshold = self.threshold(shot, first["size"], place=place,
                                             front=() if place else self.in_front(act, env))
         # A place's threshold is what the carried block can still add to the landing box,
@@ -138,6 +138,8 @@ class ChangeNode(EnvNodeBase):
         # nothing about a block vanishing, which takes its whole outline with it.
         det.vanish_threshold = self.threshold(shot, first["size"]) if place else None
         last = det.take(self.sight.frame)
+        if kept:
+            last = self.carrying(last, held[1])
         result = det.judge(shot, last)
         pos = det.target()
         if result == NO_CHANGE:
@@ -150,7 +152,7 @@ class ChangeNode(EnvNodeBase):
             # "Holding" reads the whole window; "empty" leaves out other known objects'
             # pixels, which can only add block pixels to an empty window (``unexplained``).
             before, after = first["hold"], self.hand.tracker.holding_evidence
-            emptied = self.unexplained(act, env) <= EMPTY
+            emptied = self.unexplained(act, env) <= EMPTY and not kept
             if act.special and before >= HOLDING and emptied:
                 result = APPEARED
             elif act.special and emptied and \
@@ -169,10 +171,11 @@ class ChangeNode(EnvNodeBase):
             released = self.hand.held_box(env, at=let_go, spot=True)
             held = [env.nodes[n] for n in act.special if n in env.nodes]
             if pos is not None and held and held[0].size is not None:
-                x = self.side_extent_x(x, (float(rel[1]), z), held[0].size)
+                x = side_extent_x(det, self.sight.cameras["side"], x, (float(rel[1]), z),
+                                  held[0].size)
             if pos is not None and held and held[0].size is not None and released is not None:
-                x = self.placed_x(x, float(released[1].center[0]), (float(rel[1]), z),
-                                  held[0].size, last)
+                x = placed_x(det, self.sight.cameras, x, float(released[1].center[0]),
+                             (float(rel[1]), z), held[0].size, last)
             pos = np.array([x, rel[1], z])
         lifted = self.lifted(act, env) if result == DISAPPEARED and not act.special else ()
         return Detection(value=result, found=lifted,
@@ -210,17 +213,21 @@ class ChangeNode(EnvNodeBase):
         return (gone[0].name,) if len(gone) == 1 else ()
 
     def seen(self, node: EnvNode, env: EnvModel) -> bool | None:
-        """Whether a block is still where the environment model has it, in the current
-        frame: True if the side view sees it plainly with its outline bright, False if
-        a view that sees it plainly shows it empty (and none bright), None if no view
-        tells."""
-        self.detector.attention(box(node))
+        """Whether a block is still where the environment model has it (``seen_at``)."""
+        return self.seen_at(box(node), {node.name}, env)
+
+    def seen_at(self, region: Region3D, own: set[str], env: EnvModel) -> bool | None:
+        """Whether a block fills ``region`` in the current frame: True if the side view
+        sees it plainly with its outline bright, False if a view that sees it plainly
+        shows it empty (and none bright), None if no view tells. Objects other than
+        ``own`` and the held ones hide what they cover."""
+        self.detector.attention(region)
         shot = self.detector.take(self.sight.frame)
-        others = _boxes_but(env, {node.name} | set(env.held()))
+        others = _boxes_but(env, own | set(env.held()))
         verdicts = set()
         for view, (window,) in self.detector.windows.items():
             cam, img = self.sight.cameras[view], shot.pixels[view]
-            outline = region_mask(cam, box(node), window)
+            outline = region_mask(cam, region, window)
             clear = outline & ~band(img, *HAND_BAND) & ~regions_mask(cam, others, window)
             if not outline.any() or clear.sum() < KEPT * outline.sum():
                 continue
@@ -255,64 +262,6 @@ class ChangeNode(EnvNodeBase):
         if clear.sum() < HOLDER_CLEAR * clear.size:
             return tracker.holding_evidence
         return float(((sub >= BLOCK_MIN) & clear).sum()) / float(clear.sum())
-
-    def side_extent_x(self, x: float, yz: tuple[float, float], size: Sequence[float]) -> float:
-        """x of a placed block whose outline, projected into the side view, spans the
-        columns the change spans, if the two spans are as wide (the block's whole outline
-        changed: nothing beside it changed too, nothing hid an end).
-
-        The changed area's centre is biased where the block covers pixels that were
-        bright already: set down off its support's centre (a staircase step), its front
-        face hides part of the support's top face, and the centre moved 5 mm toward the
-        overhang (a user's 15 mm step). The face's upper rows still change along its whole
-        length. The camera's perspective shows one side face too, so the span is matched
-        with the projected box (its eight corners), not read as the block's ends.
-        """
-        ext = self.detector.extent.get("side")
-        if ext is None or not self.detector.appeared.get("side"):
-            return x  # the side view's change is not the block appearing
-        cam = self.sight.cameras["side"]
-        seen = (ext[0] - 0.5, ext[1] + 0.5)  # the changed columns' outer pixel edges
-        half = np.asarray(size, float) / 2.0
-        corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
-        fitted = x
-        for _ in range(2):  # the projection is nearly affine over a few mm: two steps
-            u = cam.project(np.array([fitted, yz[0], yz[1]]) + corners * half)[:, 0]
-            span = float(u.max() - u.min())
-            if abs((seen[1] - seen[0]) - span) > EXTENT_SLACK_MM * span / float(size[0]):
-                return x
-            fitted += ((seen[0] + seen[1]) - float(u.max() + u.min())) / 2.0 * \
-                float(size[0]) / span
-        # the centroid's biases are a few mm; a larger move means the span is something else
-        return fitted if abs(fitted - x) <= FIT_SLACK_MM else x
-
-    def placed_x(self, changed: float, released: float, yz: tuple[float, float],
-                 size: Sequence[float], last: Snapshot) -> float:
-        """x of a placed block: the changed area's centre, unless the release point fits better.
-
-        The changed area's centre is biased when part of the block lands in front of
-        something that was already bright (a block behind it, its support's face): those
-        pixels did not change. The hand's release point plus the grip offset has no such
-        bias, but tremor and tracker errors go straight into it (8-10 mm at 4x noise,
-        where the centre is within 1 mm). When the two disagree by more than
-        FIT_SLACK_MM, each candidate's box is checked against the end snapshot: the
-        fraction of its outline that shows a block (hand pixels left out); the release
-        point wins only when it explains the image clearly better.
-        """
-        if abs(changed - released) <= FIT_SLACK_MM:
-            return changed
-        fits = []
-        for x in (changed, released):
-            region = Region3D.around((x, yz[0], yz[1]), size)
-            seen = total = 0
-            for view, (window,) in self.detector.windows.items():
-                img = last.pixels[view]
-                mask = region_mask(self.sight.cameras[view], region, window) & \
-                    ~band(img, *HAND_BAND)
-                total += int(mask.sum())
-                seen += int((mask & (img >= BLOCK_MIN)).sum())
-            fits.append(seen / total if total else 0.0)
-        return released if fits[1] > fits[0] + FIT_MARGIN else changed
 
     def still_there(self, act: ActView, env: EnvModel, first: Snapshot, last: Snapshot) -> bool:
         """Whether a view that sees the target plainly shows it unmoved in both snapshots.

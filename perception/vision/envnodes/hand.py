@@ -129,7 +129,8 @@ class HandState:
         self.velocity = np.zeros(3)
         self.history: list[Sample] = []  # the path, oldest first (HISTORY_S of it)
         self._times: list[float] = []  # the samples' times, for bisection
-        self._lowest: dict[float, tuple[int, Sample]] = {}  # since -> (samples seen, lowest)
+        # (since, -1 lowest | 1 highest) -> (samples seen, that sample)
+        self._lowest: dict[tuple[float, float], tuple[int, Sample]] = {}
         self._rest: dict[str, np.ndarray] = {}  # object -> its last position while not held
         self._grip: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # held -> (hand, spot) grip
         self._observed: tuple | None = None  # what observe() last saw (frame, relations)
@@ -232,15 +233,24 @@ class HandState:
 
     def lowest(self, t: float) -> Sample | None:
         """The lowest point of the path since ``t`` (kept up to date per ``t`` asked)."""
+        return self._extreme(t, -1.0)
+
+    def highest(self, t: float) -> Sample | None:
+        """The highest point of the path since ``t`` (kept up to date per ``t`` asked)."""
+        return self._extreme(t, 1.0)
+
+    def _extreme(self, t: float, sign: float) -> Sample | None:
+        """The lowest (``sign`` -1) or highest (1) point since ``t``, scanning only the
+        samples added since the same question was last asked."""
         start = max(0, bisect.bisect_right(self._times, t) - 1)
-        seen, low = self._lowest.get(t, (start, None))
+        seen, best = self._lowest.get((t, sign), (start, None))
         for s in self.history[seen:]:
-            if low is None or s.hand[2] < low.hand[2]:
-                low = s
-        self._lowest[t] = (len(self.history), low)
+            if best is None or sign * (s.hand[2] - best.hand[2]) > 0:
+                best = s
+        self._lowest[(t, sign)] = (len(self.history), best)
         if len(self._lowest) > 64:  # old questions are not asked again
             self._lowest.pop(next(iter(self._lowest)))
-        return low
+        return best
 
     def at(self, t: float) -> Sample | None:
         """The sample at time ``t`` (the last one before it; the first after it if none)."""

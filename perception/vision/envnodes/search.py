@@ -85,20 +85,22 @@ class SearchNode(EnvNodeBase):
         return hand.detection(found=found, t=self.waiting.get(query.since)) if found else None
 
     def leaving(self, query: Query, env: EnvModel) -> bool:
-        """A hand carrying an object that has not gone anywhere since its Transfer began, or
-        is speeding up, is not arriving; nor is an empty hand still rising above where its
-        Transfer began (within RISE_MM, not come down from its highest point since then by
-        DESCENT_MM)."""
+        """A hand carrying an object that has neither gone anywhere since its Transfer began
+        nor come down from its highest point since then by DESCENT_MM, or that is speeding
+        up, is not arriving; nor is an empty hand still rising above where its Transfer
+        began (within RISE_MM, not come down by DESCENT_MM)."""
         hand = self.hand
         start = hand.at(query.since)
         moved = None if start is None else float(np.hypot(*(hand.hand[:2] - start.hand[:2])))
+        top = hand.highest(query.since)
+        down = top is not None and float(hand.hand[2]) <= float(top.hand[2]) - DESCENT_MM
         if hand.held_box(env, spot=True) is None:
             if moved is None or moved >= RISE_MM:
                 return False
-            top = max(float(s.hand[2]) for s in hand.since(query.since))
-            return float(hand.hand[2]) > top - DESCENT_MM
-        if moved is not None and moved < ARRIVE_MM:
-            return True
+            return not down
+        if moved is not None and moved < ARRIVE_MM and not down:
+            return True  # come back down where it left, it arrives (a carried touch, then
+            # the place on the touched block)
         before = hand.at(self.sight.t - SPEEDING_S)
         return before is not None and hand.speed() > before.speed + SPEEDING_UP * hand.v_fast
 

@@ -112,6 +112,26 @@ class HandTrackerNode(EnvNodeBase):
             for s in recent)
         if away or fast:
             return hand.detection(t=hand.path.onset(hand.sight.t))
+        top = self._came_back(low)
+        if top is not None:
+            return hand.detection(t=top.t)
+        return None
+
+    def _came_back(self, low: Sample) -> Sample | None:
+        """The top of a rise of FAR_RISE_MM above the motion's lowest point ``low``, if the
+        hand has come down DESCENT_MM from it since, on FAR_FRAMES frames: it left and is
+        coming back to the same footprint (a touch with a block in hand, then its place on
+        the touched block; the rise stays under the search's reach and the short transfer
+        under the fast cue's speed)."""
+        hand = self.hand
+        top = hand.highest(low.t)
+        if top is None or float(top.hand[2]) - float(low.hand[2]) <= FAR_RISE_MM:
+            return None
+        last = hand.history[-FAR_FRAMES:]
+        drop = float(top.hand[2]) - DESCENT_MM
+        if len(last) == FAR_FRAMES and all(s.t > top.t and float(s.hand[2]) < drop
+                                           for s in last):
+            return top
         return None
 
     def _work(self, query: Query, env: EnvModel, low: Sample) -> WorkRegion | None:

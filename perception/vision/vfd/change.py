@@ -103,6 +103,8 @@ class ChangeDetector(VFD):
             appeared, gone = obj_b & ~obj_a, obj_a & ~obj_b
             if first.load is not None:
                 gone &= ~first.load[v]
+            if last.load is not None:  # the load still in the hand at the end: not set down
+                appeared &= ~last.load[v]
             net = (int(appeared.sum()) - int(gone.sum())) / max(1, a.size)
             votes[v] = net
             self.changed_fraction[v] = abs(net)

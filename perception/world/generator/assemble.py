@@ -124,7 +124,8 @@ def _layout(rng: np.random.Generator, objects: dict, shapes: dict, stacks: dict,
 
 
 def _steps(rng: np.random.Generator, order: list[dict], teach: dict) -> tuple[list[dict], int]:
-    """pick/place steps, with up to two touches of objects lying alone on the table."""
+    """pick/place steps, with up to two touches: of objects lying alone on the table, or
+    of a place's single support by the block about to be put on it."""
     stacked = {n for n, w in teach.items() if len(w) == 1} | \
         {w[0] for w in teach.values() if len(w) == 1}
     supports = {s for a in order for s in ([a["on"]] if isinstance(a["on"], str) else a["on"])}
@@ -135,6 +136,12 @@ def _steps(rng: np.random.Generator, order: list[dict], teach: dict) -> tuple[li
             steps.append({"touch": str(rng.choice(free))})
             touches += 1
         steps.append({"pick": a["obj"]})
+        if touches < 2 and isinstance(a["on"], str) and a["on"] != "table" and "at" not in a \
+                and "align" not in a and rng.random() < 0.15:
+            # touch the support with the block in hand first, where the place then puts
+            # it (its centre: the same hand path, so as feasible as the place itself)
+            steps.append({"touch": a["on"]})
+            touches += 1
         steps.append({"place": a["obj"], **{k: v for k, v in a.items() if k != "obj"}})
         moved.add(a["obj"])
     return steps, touches
