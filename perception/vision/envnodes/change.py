@@ -21,7 +21,7 @@ from lbw_engine.model.env import EnvModel, EnvNode
 from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
-from perception.vision.envnodes.placement import placed_x, side_extent_x
+from perception.vision.envnodes.placement import placed_x, side_extent_x, unhidden_x
 from perception.vision.vfd.base import (
     BLOCK_MIN,
     DARK_MAX,
@@ -30,6 +30,7 @@ from perception.vision.vfd.base import (
     band,
     region_mask,
     regions_mask,
+    visible_outline,
 )
 from perception.vision.vfd.change import (
     APPEARED,
@@ -171,11 +172,14 @@ class ChangeNode(EnvNodeBase):
             released = self.hand.held_box(env, at=let_go, spot=True)
             held = [env.nodes[n] for n in act.special if n in env.nodes]
             if pos is not None and held and held[0].size is not None:
-                x = side_extent_x(det, self.sight.cameras["side"], x, (float(rel[1]), z),
-                                  held[0].size)
+                side, size = self.sight.cameras["side"], held[0].size
+                x = side_extent_x(det, side, x, (float(rel[1]), z), size)
+                x = unhidden_x(det, side, x, (float(rel[1]), z), size,
+                               self.nearer(float(rel[1]) - float(size[1]) / 2.0, env))
             if pos is not None and held and held[0].size is not None and released is not None:
                 x = placed_x(det, self.sight.cameras, x, float(released[1].center[0]),
-                             (float(rel[1]), z), held[0].size, last)
+                             (float(rel[1]), z), held[0].size, last,
+                             _boxes_but(env, {held[0].name} | set(env.held())))
             pos = np.array([x, rel[1], z])
         lifted = self.lifted(act, env) if result == DISAPPEARED and not act.special else ()
         return Detection(value=result, found=lifted,
@@ -227,8 +231,7 @@ class ChangeNode(EnvNodeBase):
         verdicts = set()
         for view, (window,) in self.detector.windows.items():
             cam, img = self.sight.cameras[view], shot.pixels[view]
-            outline = region_mask(cam, region, window)
-            clear = outline & ~band(img, *HAND_BAND) & ~regions_mask(cam, others, window)
+            outline, clear = visible_outline(cam, region, window, img, others)
             if not outline.any() or clear.sum() < KEPT * outline.sum():
                 continue
             # kept: block faces; gone: not even a crease or the arm's gray is left. The top
@@ -293,9 +296,15 @@ class ChangeNode(EnvNodeBase):
         targets = _targets(act, env)
         if not targets:
             return []
-        depth = min(box(n).lo[1] for n in targets)
-        return [b for b in _boxes_but(env, {n.name for n in targets} | set(env.held()))
-                if b.hi[1] <= depth]
+        return self.nearer(min(box(n).lo[1] for n in targets), env,
+                           {n.name for n in targets})
+
+    @staticmethod
+    def nearer(depth: float, env: EnvModel, but: frozenset[str] | set[str] = frozenset()
+               ) -> list[Region3D]:
+        """Boxes of the known objects (not ``but``, not held) wholly nearer the side camera
+        than ``depth`` along y."""
+        return [b for b in _boxes_but(env, set(but) | set(env.held())) if b.hi[1] <= depth]
 
     def threshold(self, shot: Snapshot, size: Sequence[float], place: bool = False,
                   front: Sequence[Region3D] = ()) -> float:

@@ -81,6 +81,15 @@ def regions_mask(cam: Camera, regions: Iterable[Region3D], window: Window) -> np
     return mask
 
 
+def visible_outline(cam: Camera, region: Region3D, window: Window, img: np.ndarray,
+                    others: Iterable[Region3D]) -> tuple[np.ndarray, np.ndarray]:
+    """The region's projected outline in the window, and the part of it where the region
+    itself can be seen: clear of the hand and of the ``others`` boxes' outlines (what
+    shows there may be theirs)."""
+    outline = region_mask(cam, region, window)
+    return outline, outline & ~band(img, *HAND_BAND) & ~regions_mask(cam, others, window)
+
+
 def band(img: np.ndarray, lo: int, hi: int) -> np.ndarray:
     """Boolean mask of pixels with lo <= gray <= hi."""
     return (img >= lo) & (img <= hi)

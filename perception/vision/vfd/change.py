@@ -65,6 +65,7 @@ class ChangeDetector(VFD):
         # and whether that change was pixels appearing (else vanishing)
         self.extent: dict[str, tuple[int, int]] = {}
         self.appeared: dict[str, bool] = {}
+        self.centres: dict[str, tuple[float, float]] = {}  # ... and its centre (u, v) px
 
     def take(self, frame: Frame) -> Snapshot:
         """A snapshot of the current region's windows on ``frame``."""
@@ -124,6 +125,7 @@ class ChangeDetector(VFD):
                 self.extent[v] = (x0 + int(cols[0]), x0 + int(cols[-1]))
             else:
                 self.extent.pop(v, None)
+        self.centres = centres
         passing = [v for v in VIEWS if abs(votes[v]) >= self.need(votes[v])]
         if not passing:
             self.result, self._target = NO_CHANGE, None
