@@ -9,6 +9,8 @@ taken by another object makes the task impossible.
 
 from __future__ import annotations
 
+from collections.abc import Collection, Iterable, Mapping, Sequence
+
 from lbw_engine.do.balance import steadied
 from lbw_engine.do.plan import Relation
 from lbw_engine.errors import InputError, TaskFailed
@@ -19,10 +21,40 @@ from lbw_engine.rules.commands import CommandRules
 NOT_OBJECTS = frozenset({TABLE, "hand"})
 
 
+def taught_positions(si: Sequence[Relation], support: Collection[str]) -> dict[str, Vec]:
+    """World positions an operator's invariant relations give the objects they support
+    (``:at`` composed along ``:wrt`` down to the table), for the objects they place."""
+    rels = {r.subject: r for r in si if r.type in support and r.at is not None}
+    out: dict[str, Vec] = {}
+
+    def world(name: str, seen: frozenset[str]) -> Vec | None:
+        r = rels.get(name)
+        if name in out or r is None or name in seen:
+            return out.get(name)
+        if r.wrt in (None, TABLE):
+            out[name] = tuple(r.at)
+        else:
+            base = world(r.wrt, seen | {name})
+            if base is None:
+                return None
+            out[name] = tuple(a + b for a, b in zip(r.at, base, strict=True))
+        return out[name]
+
+    for name in rels:
+        world(name, frozenset())
+    return out
+
+
 def placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
-              file: str = "<plan>", where: str = "") -> tuple[Vec, float]:
+              file: str = "<plan>", where: str = "",
+              taught: Mapping[str, Vec] | None = None) -> tuple[Vec, float]:
     """Where ``focus`` goes for a taught support relation in the current model, and how
-    far the taught spot was moved so that the load stands."""
+    far the taught spot was moved so that the load stands.
+
+    A load on several supports has its ``:at`` in world coordinates (rules/effects.yaml);
+    given where the supports stood when it was taught (``taught``, from the operator's
+    invariant relations), it keeps its place relative to where they stand now: supports
+    the demonstration never moved start wherever the execution layout has them."""
     for s in [*rel.objects, *([rel.wrt] if rel.wrt else [])]:
         if s not in NOT_OBJECTS and s not in model.bodies:
             raise InputError(f"the relation names '{s}', which is not a plan object",
@@ -31,11 +63,15 @@ def placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
     if rel.at is not None and rel.wrt not in (None, TABLE):
         ref = model.bodies[rel.wrt].position  # relative to the support's current place
         xy = (ref[0] + rel.at[0], ref[1] + rel.at[1])
+    elif rel.at is not None and len(supports) > 1 and taught and \
+            all(s in taught for s in supports):
+        then, now = _centre(taught[s] for s in supports), \
+            _centre(model.bodies[s].position for s in supports)
+        xy = (rel.at[0] - then[0] + now[0], rel.at[1] - then[1] + now[1])
     elif rel.at is not None:
         xy = (rel.at[0], rel.at[1])  # world frame (on the table, or no :wrt)
     elif supports:
-        ps = [model.bodies[s].position for s in supports]  # centre of the supports
-        xy = (sum(p[0] for p in ps) / len(ps), sum(p[1] for p in ps) / len(ps))
+        xy = _centre(model.bodies[s].position for s in supports)  # centre of the supports
     else:
         raise InputError(f"the placement of '{focus}' on the table has no :at position",
                          file=file, where=where)
@@ -49,6 +85,12 @@ def placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
     goal = (xy[0], xy[1], base + size[2] / 2 + rules.release_clearance)
     _check_free(goal, focus, model)
     return goal, moved
+
+
+def _centre(points: Iterable[Vec]) -> tuple[float, float]:
+    """Mean x, y of some points."""
+    ps = list(points)
+    return (sum(p[0] for p in ps) / len(ps), sum(p[1] for p in ps) / len(ps))
 
 
 def _check_free(goal: Vec, focus: str, model: EnvModel) -> None:

@@ -31,7 +31,7 @@ from lbw_engine.do import clearing, fine, grasp, jaws
 from lbw_engine.do.balance import unbalanced
 from lbw_engine.do.expander import Command, Context, Expander
 from lbw_engine.do.fine import Alignment, PlacePlan
-from lbw_engine.do.placement import NOT_OBJECTS, mm, placement
+from lbw_engine.do.placement import NOT_OBJECTS, mm, placement, taught_positions
 from lbw_engine.do.plan import Operator, Plan, action_names
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import EnvModel
@@ -363,7 +363,8 @@ def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
                 if r.subject == focus and r.type in rules.support_relations), None)
     if rel is None:
         return None, 0.0
-    goal, moved = placement(rel, focus, rules, model, file, where)
+    goal, moved = placement(rel, focus, rules, model, file, where,
+                            taught_positions(op.si, rules.support_relations))
     found = fine.aligned(op, focus, goal, rules, model)
     if found is not None:  # the demonstrated ALIGN: flush with its partner (fine.py)
         goal = found[0]

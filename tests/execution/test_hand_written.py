@@ -44,3 +44,15 @@ def test_one_misread_stack_does_not_hide_its_neighbour_from_the_cameras():
     assert result.success, result.message
     assert result.report["monitor"]["detections"] == []
     assert result.report["verification"] == {"cameras": True, "ground_truth": True}
+
+
+def test_a_load_goes_where_its_unmoved_supports_stand_now():
+    """plate-on-standing-legs.yaml: the plate was taught across legs the demonstration
+    never moved; in the execution layout they stand 100-240 mm east and 100 mm north.
+    The plate went to its taught world spot, on one leg (do/placement.py: the load keeps
+    its place relative to its supports' taught positions, from the plan's SI)."""
+    result = run(load(DATA / "plate-on-standing-legs.yaml"))
+    assert result.recognition["exact"], result.recognition["difference"]
+    assert result.failure is None, result.failure
+    assert result.execution.report["verification"] == {"cameras": True, "ground_truth": True}
+    assert result.execution.report["monitor"]["detections"] == []
