@@ -5,14 +5,17 @@ and the objects the object-finder measured in the execution workspace. The
 match goes in two stages with the shape name as the key — measured objects →
 the plan's object list → the taught environment model — so irrelevant objects
 drop out on both sides, and among objects of equal shape the first measured
-one goes to the first listed plan object (first come, first served).
+one goes to the first listed plan object (first come, first served), except that
+objects the plan never moves but needs in place go to the nearest one.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import math
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, field
 
+from lbw_engine.do.placement import taught_positions
 from lbw_engine.do.plan import Plan
 from lbw_engine.errors import TaskFailed
 
@@ -49,6 +52,16 @@ def plan_objects(plan: Plan) -> list[str]:
     return out
 
 
+def anchors(plan: Plan, support: Collection[str]) -> dict[str, tuple[float, ...]]:
+    """The plan's objects that no operator moves (none gives them a new ``support``
+    relation), at the world positions its operators' invariant relations (SI) say they
+    stood when taught; those whose position the plan does not record are left out."""
+    moved = {r.subject for op in plan.operators.values() for r in op.sc_plus
+             if r.type in support}
+    taught = taught_positions([r for op in plan.operators.values() for r in op.si], support)
+    return {n: taught[n] for n in plan_objects(plan) if n not in moved and n in taught}
+
+
 def taught_shapes(plan: Plan, teach_objects: Mapping[str, Mapping]) -> dict[str, dict]:
     """Taught objects {name: {shape, position}}: plan.json's objects, else the scenario's."""
     return dict(plan.objects) if plan.objects is not None else dict(teach_objects)
@@ -58,9 +71,15 @@ def match_initial_state(
     taught: Mapping[str, Mapping],
     relevant: Sequence[str],
     measured: Sequence[Measured],
+    anchors: Mapping[str, Sequence[float]] | None = None,
 ) -> Matching:
     """Match the plan's objects to measured ones by shape, first come first served.
 
+    ``anchors``: where the plan needs some of its objects to be, for objects it never
+    moves (the taught positions of supports that other objects are put beside or on in
+    world coordinates). Each takes, nearest first, the measured object of its shape
+    nearest that position: a user who leaves one cube of a row where it stood expects
+    the row built on it, not on another cube of that shape lying elsewhere.
     Raises TaskFailed naming the first plan object whose shape has no
     (remaining) measured object.
     """
@@ -68,7 +87,16 @@ def match_initial_state(
     for i, m in enumerate(measured):
         pool.setdefault(m.shape, []).append(i)
     assigned: dict[str, int] = {}
+    pairs = sorted((math.dist(at[:2], measured[i].position[:2]), name, i)
+                   for name, at in (anchors or {}).items() if name in relevant
+                   and name in taught for i in pool.get(taught[name]["shape"], []))
+    for _, name, i in pairs:
+        if name not in assigned and i in pool[taught[name]["shape"]]:
+            assigned[name] = i
+            pool[taught[name]["shape"]].remove(i)
     for name in relevant:
+        if name in assigned:
+            continue
         if name not in taught:
             raise TaskFailed(f"the plan uses '{name}' but the taught workspace has no such object")
         shape = taught[name]["shape"]

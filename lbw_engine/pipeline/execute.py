@@ -19,7 +19,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from lbw_engine.do.listing import format_commands
-from lbw_engine.do.matching import Measured, match_initial_state, plan_objects, taught_shapes
+from lbw_engine.do.matching import (
+    Measured,
+    anchors,
+    match_initial_state,
+    plan_objects,
+    taught_shapes,
+)
 from lbw_engine.do.monitor import pair_by_shape
 from lbw_engine.do.plan import Plan
 from lbw_engine.do.tracing import Trace, trace
@@ -94,7 +100,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
                                         "size": list(m.size)} for m in measured]},
     }
     try:
-        matching = match_initial_state(taught, plan_objects(plan), measured)
+        matching = match_initial_state(taught, plan_objects(plan), measured,
+                                       anchors(plan, rules.support_relations))
         report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
         model = _model(taught, sc.shapes, matching, measured, ruleset)
         fresh = copy.deepcopy(model) if via == "bt" else None

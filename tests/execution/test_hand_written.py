@@ -15,6 +15,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from lbw_engine.pipeline.run import run
 from perception.world.scenario import load
 
@@ -56,3 +58,14 @@ def test_a_load_goes_where_its_unmoved_supports_stand_now():
     assert result.failure is None, result.failure
     assert result.execution.report["verification"] == {"cameras": True, "ground_truth": True}
     assert result.execution.report["monitor"]["detections"] == []
+
+
+def test_an_object_the_plan_never_moves_is_matched_where_it_stands():
+    """row-beside-a-standing-cube.yaml: of three equal cubes, the one the demonstration
+    left in place must be the execution cube standing at its spot (do/matching.py
+    anchors), else the other two are set down beside nothing and the lid falls."""
+    result = run(load(DATA / "row-beside-a-standing-cube.yaml"))
+    assert result.recognition["exact"], result.recognition["difference"]
+    assert result.failure is None, result.failure
+    assert result.execution.report["initial_state"]["matching"]["k1"][:2] == \
+        pytest.approx([-40, 200], abs=5)

@@ -59,3 +59,17 @@ def test_missing_shape_is_a_task_failure_naming_the_object(relevant, measured, n
         match_initial_state(TAUGHT, relevant, measured)
     assert f"'{needle}'" in str(exc.value)
     assert exc.value.exit_code == 1
+
+
+def test_an_anchored_object_takes_the_measured_one_nearest_its_taught_spot():
+    """First come, first served would give k1 the first cube measured; anchored (the plan
+    never moves it and needs it at (-40, 200)), it takes the cube standing there."""
+    from lbw_engine.do.matching import Measured, match_initial_state
+
+    taught = {n: {"shape": "cube"} for n in ("k1", "k2", "k3")}
+    measured = [Measured("cube", (100.0, 60.0, 15.0), (30, 30, 30)),
+                Measured("cube", (220.0, 250.0, 15.0), (30, 30, 30)),
+                Measured("cube", (-40.0, 201.0, 15.0), (30, 30, 30))]
+    m = match_initial_state(taught, ["k1", "k2", "k3"], measured, {"k1": (-40.0, 200.0, 15.0)})
+    assert m.assigned == {"k1": 2, "k2": 0, "k3": 1}
+    assert match_initial_state(taught, ["k1", "k2", "k3"], measured).assigned["k1"] == 0
