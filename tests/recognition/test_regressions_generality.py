@@ -39,6 +39,11 @@ CASES = {
     # the same with a crossing beam (bench 1006): the beam still hanging over the spot at
     # the touch's end was read as set down (perception/vision/envnodes/change.py seen_at)
     "beam-touching-its-support": "beam-touching-its-support.yaml",
+    # class 2 along y (helper round 4): a brick set down 0 or 2 mm north of another was
+    # read as put on it, the :Near search's grown footprint taking the neighbour; the
+    # release shows it beside it, at table height (envnodes/placement.py beside_target)
+    "row-along-y-touching": "row-y-gap0.yaml",
+    "row-along-y-gap-2mm-capped": "row-y-gap2-capped.yaml",
 }
 
 

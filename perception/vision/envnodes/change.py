@@ -21,7 +21,12 @@ from lbw_engine.model.env import EnvModel, EnvNode
 from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
-from perception.vision.envnodes.placement import placed_x, side_extent_x, unhidden_x
+from perception.vision.envnodes.placement import (
+    beside_target,
+    placed_x,
+    side_extent_x,
+    unhidden_x,
+)
 from perception.vision.vfd.base import (
     BLOCK_MIN,
     DARK_MAX,
@@ -162,7 +167,7 @@ class ChangeNode(EnvNodeBase):
             elif (not act.special and first.get("empty", before) <= EMPTY and after >= HOLDING
                   and not self.still_there(act, env, shot, last)):
                 result = DISAPPEARED
-        let_go = self.hand.let_go(act.since)
+        let_go, found = self.hand.let_go(act.since), ()
         if result == APPEARED and let_go is not None:
             # The side camera looks along +y: it fixes x (and z) of the changed area well but
             # not its depth; the top view of the spot is hidden by the hand. The block was set
@@ -181,8 +186,13 @@ class ChangeNode(EnvNodeBase):
                              (float(rel[1]), z), held[0].size, last,
                              _boxes_but(env, {held[0].name} | set(env.held())))
             pos = np.array([x, rel[1], z])
-        lifted = self.lifted(act, env) if result == DISAPPEARED and not act.special else ()
-        return Detection(value=result, found=lifted,
+            if held and held[0].size is not None and released is not None:
+                moving = {held[0].name, *env.supported_by(held[0].name), *env.held()}
+                found = beside_target(env, _targets(act, env), pos, held[0].size,
+                                      float(released[1].lo[2]), moving)
+        if result == DISAPPEARED and not act.special:
+            found = self.lifted(act, env)
+        return Detection(value=result, found=found,
                          position=tuple(float(c) for c in pos) if pos is not None else None)
 
     def lifted(self, act: ActView, env: EnvModel) -> tuple[str, ...]:

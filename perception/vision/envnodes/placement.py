@@ -12,6 +12,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from lbw_engine.model.env import EnvModel, EnvNode
+from lbw_engine.names import TABLE
 from perception.vision.camera import Camera
 from perception.vision.vfd.base import (
     BLOCK_MIN,
@@ -28,6 +30,8 @@ from perception.vision.vfd.change import ChangeDetector, Snapshot
 FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
 EXTENT_SLACK_MM = 4.0  # the side view's changed columns span the placed block's length
 MIN_SEEN = 0.2  # a block less visible than this from the side is not placed by what shows
+RESTS_MM = 3.0  # footprints overlapping by less than this along an axis: side by side
+LEVEL_MM = 12.0  # tops this close are one level (a support is never thinner than 10 mm)
 
 
 def side_extent_x(det: ChangeDetector, cam: Camera, x: float, yz: tuple[float, float],
@@ -120,3 +124,29 @@ def placed_x(det: ChangeDetector, cameras: Mapping[str, Camera], changed: float,
             seen += int((mask & (img >= BLOCK_MIN)).sum())
         fits.append(seen / total if total else 0.0)
     return released if fits[1] > fits[0] + FIT_MARGIN else changed
+
+
+def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float],
+                  size: Sequence[float], bottom: float, moving: set[str]) -> tuple[str, ...]:
+    """What a block set down at ``xy`` with its bottom at ``bottom`` rests on, when its
+    footprint plainly misses every one of the motion's ``targets``; () when one of them is
+    under it (the :Near search's choice stands).
+
+    The search at :Near takes what lies under the held block then, grown by a margin: a
+    brick set down 2 mm north of another along y was put "on" it (helper round 4, v24b),
+    though it ended beside it with its bottom at table height. What rests under the
+    footprint at the highest level the bottom reaches is the support; nothing: the table.
+    """
+    def under(n: EnvNode) -> bool:
+        return all(min(xy[k] + size[k] / 2, n.position[k] + n.size[k] / 2)
+                   - max(xy[k] - size[k] / 2, n.position[k] - n.size[k] / 2) >= RESTS_MM
+                   for k in (0, 1))
+
+    if not targets or any(under(n) for n in targets):
+        return ()
+    below = [n for n in env.objects() if n.name not in moving and n.position is not None
+             and n.size is not None and under(n) and n.top() <= bottom + LEVEL_MM]
+    if not below:
+        return (TABLE,)
+    level = max(n.top() for n in below)
+    return tuple(n.name for n in below if n.top() >= level - LEVEL_MM)
