@@ -21,6 +21,7 @@ from lbw_engine.errors import TaskFailed
 
 # The table and the hand are instantiated from calibration, never matched (Sec. VII-A 5).
 NOT_MATCHED = frozenset({"table", "hand"})
+COVER_MM = 5.0  # an object whose bottom is this near another's top lies on it
 
 
 @dataclass(frozen=True)
@@ -108,10 +109,23 @@ def match_initial_state(
                 f"object '{name}' (shape {shape}) has no counterpart in the execution "
                 f"workspace: the plan needs {want} {shape}(s), the object-finder saw {have}"
             )
-        assigned[name] = free.pop(0)
+        # a block with another lying on it is taken only if no free one is left: the
+        # robot would first have to set the other aside (a stack of equal blocks)
+        pick = next((i for i in free if not _covered(i, measured)), free[0])
+        free.remove(pick)
+        assigned[name] = pick
     used = set(assigned.values())
     return Matching(
         positions={n: tuple(measured[i].position) for n, i in assigned.items()},
         assigned=assigned,
         unmatched=[i for i in range(len(measured)) if i not in used],
     )
+
+
+def _covered(i: int, measured: Sequence[Measured]) -> bool:
+    """Whether another measured object lies on measured object ``i``."""
+    a = measured[i]
+    top = a.position[2] + a.size[2] / 2
+    return any(j != i and abs(b.position[2] - b.size[2] / 2 - top) <= COVER_MM and all(
+        abs(a.position[k] - b.position[k]) < (a.size[k] + b.size[k]) / 2 for k in (0, 1))
+        for j, b in enumerate(measured))

@@ -151,3 +151,18 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
     assert report["monitor"]["detections"] == [] and report["monitor"]["repairs"] == []
     assert [u["operator"] for u in report["monitor"]["units"]] == units
     assert report["verification"] == {"cameras": True, "ground_truth": True}
+
+
+@pytest.mark.parametrize("name", ["slab-robot-lowers-fast.yaml", "unstack-equal-blocks.yaml"],
+                         ids=["robot-lowers-fast", "equal-blocks-stacked"])
+def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
+    """Fault-free runs of two users' scenarios (helper round 4): the monitor must not see a
+    difference and redo an ACHIEVE (search.py leaving; matching.py _covered)."""
+    from lbw_engine.pipeline.run import run
+    from perception.world.scenario import load
+
+    result = run(load(Path(__file__).parent / "data" / name))
+    assert result.failure is None, result.failure
+    report = result.execution.report
+    assert report["monitor"]["detections"] == [] and report["monitor"]["repairs"] == []
+    assert report["verification"] == {"cameras": True, "ground_truth": True}

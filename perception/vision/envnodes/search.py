@@ -43,6 +43,7 @@ MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target)
 ARRIVE_MM = 15.0
 SPEEDING_S = 0.1
 SPEEDING_UP = 0.2
+DOWNWARD = 0.7  # a hand whose velocity points down this much (its share of the speed)
 # An empty hand that pauses while it rises from where its Transfer began (x, y within
 # RISE_MM: it drifts as it lifts), not yet DESCENT_MM below the highest point it reached
 # since, is still leaving: at 4x a demonstrator's hand hesitates as it lifts off a placed
@@ -101,8 +102,11 @@ class SearchNode(EnvNodeBase):
         if moved is not None and moved < ARRIVE_MM and not down:
             return True  # come back down where it left, it arrives (a carried touch, then
             # the place on the touched block)
+        # speeding up on its way down is coming in: a robot stops over the spot for a few
+        # frames only, then lowers at 270 mm/s (its monitor, helper round 4, v25b)
         before = hand.at(self.sight.t - SPEEDING_S)
-        return before is not None and hand.speed() > before.speed + SPEEDING_UP * hand.v_fast
+        return before is not None and hand.speed() > before.speed + SPEEDING_UP * hand.v_fast \
+            and float(hand.velocity[2]) > -DOWNWARD * hand.speed()
 
     def regions(self, env: EnvModel) -> tuple[list[Region3D], set[str]]:
         """The search regions, top to bottom, and the names never to report (held, riders)."""
