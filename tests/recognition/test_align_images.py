@@ -61,8 +61,10 @@ def test_a_block_set_down_flush_without_a_slide_is_no_align():
     # the fingertips hidden by a block in front while the hand comes down
     # (HandTracker._unhidden)
     ("align-behind-a-block.yaml", [["ALIGN"]]),
+    # a palm-to-fingertip drop learned too long, never corrected (HandTracker._edge_below)
+    ("align-on-two-faces.yaml", [["NO-OP"], ["ALIGN"], ["ALIGN"]]),
 ], ids=["8mm-slide", "measured-into-its-neighbour", "jaws-across-the-camera",
-        "behind-a-block"])
+        "behind-a-block", "two-faces-of-one-block"])
 def test_a_slide_into_line_is_an_align(name, aligns):
     sc, _, actions = watch_file(DATA / name)
     assert_sequence(sc, actions)

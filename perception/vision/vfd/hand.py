@@ -50,6 +50,8 @@ HAND_AT_PIXELS = 20  # hand-band pixels around a point that show the hand there 
 OCCLUDED_MM = 6.0
 ONE_BAND = 0.7  # share of hand pixels between the finger features: one band (y-jaws; x-jaws
 # show 0.1-0.3 there, y-jaws 1.0 on 24 generated demonstrations of every family)
+EDGE_ROWS, EDGE_COLS, EDGE_SHARE = 6, 2, 0.5  # the patch under the fingertips (px), and
+# the share of a row of it in block faces that shows a block's top hiding them
 DROP_RATE = 0.05  # weight of each seen frame in the learned drop (tremor: about 1.5 mm)
 
 
@@ -255,7 +257,7 @@ class HandTracker(VFD):
             uv = (self.holder.center[0], tip_v)
             front = palm3d[1] - FINGER_FRONT_MM
             z = side_cam.plane_point(uv, 1, front)[2] + HOLDER_ABOVE_TIPS_MM
-            z = self._unhidden(z, palm3d[2])
+            z = self._unhidden(z, palm3d[2], side_img, good, tip_v)
         if z is None:
             z = float(palm3d[2]) - self.drop if self.drop is not None else \
                 float(self._target[2]) if self._target is not None else float(palm3d[2])
@@ -284,14 +286,33 @@ class HandTracker(VFD):
         hand = cv2.countNonZero(cv2.inRange(row, HAND_BAND[0], HAND_BAND[1]))
         return hand >= ONE_BAND * row.size
 
-    def _unhidden(self, z: float, palm_z: float) -> float | None:
+    def _unhidden(self, z: float, palm_z: float, image: np.ndarray, fingers: list[_Tracker],
+                  tip_v: float) -> float | None:
         """The fingertips' height ``z`` if it agrees with the learned drop below the palm
-        (and learn from it), else None: something in front hides the fingertips."""
+        (and learn from it), else None: something in front hides the fingertips.
+
+        A block's top edge right under the lowest hand row is what hides them; without
+        one the fingertips are seen, however short the drop, and the drop is learned
+        from them (a drop once learned too long would otherwise never be corrected).
+        """
         drop = float(palm_z) - z
-        if self.drop is not None and drop < self.drop - OCCLUDED_MM:
+        if self.drop is not None and drop < self.drop - OCCLUDED_MM and \
+                self._edge_below(image, fingers, tip_v):
             return None
         self.drop = drop if self.drop is None else self.drop + DROP_RATE * (drop - self.drop)
         return z
+
+    @staticmethod
+    def _edge_below(image: np.ndarray, fingers: list[_Tracker], tip_v: float) -> bool:
+        """Whether block faces lie right under the lowest hand row, below the fingers (a
+        row of them, past the dark edge lines the renderer draws)."""
+        rows = slice(int(round(tip_v)) + 1, int(round(tip_v)) + 1 + EDGE_ROWS)
+        cols = [int(round(f.feature[0])) for f in fingers]
+        patch = image[rows, max(0, min(cols) - EDGE_COLS):max(cols) + EDGE_COLS + 1]
+        if patch.size == 0:
+            return False
+        bright = np.count_nonzero(patch >= BLOCK_MIN, axis=1)  # per row: edges are dark lines
+        return bool(bright.max() >= EDGE_SHARE * patch.shape[1])
 
     def _reacquire(self, f: _Tracker, side: int, pf: tuple[float, float], s: float,
                    image: np.ndarray) -> None:
