@@ -130,6 +130,9 @@ def test_the_first_phase_that_went_wrong_is_named(tmp_path, monkeypatch, capsys,
     assert main(["run", str(SCENARIO), "--out", str(tmp_path)]) == 1  # a failed task, not 2
     verdict = json.loads((tmp_path / "execution.json").read_text())
     assert verdict["success"] is False and verdict["failure"].startswith(f"{phase}: ")
+    # design.md's keys are there whatever phase failed (helper round 4: not before)
+    assert verdict["verification"] == {"cameras": False, "ground_truth": False}
+    assert verdict["monitor"]["detections"] == [] and verdict["monitor"]["repairs"] == []
     assert f"failed: {phase}: " in capsys.readouterr().err
     assert (tmp_path / "actions.json").exists()  # what was made before it is kept
 

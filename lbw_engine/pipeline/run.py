@@ -67,6 +67,9 @@ class RunResult:
         if self.execution is not None:
             out.update({k: v for k, v in self.execution.report.items() if k != "success"})
         out["failure"] = self.failure if not self.success else None
+        # design.md's keys, also when nothing was executed: nothing built, nothing watched
+        out.setdefault("verification", {"cameras": False, "ground_truth": False})
+        out.setdefault("monitor", {"detections": [], "repairs": []})
         out["recognition"] = self.recognition
         out["seconds"] = {k: round(v, 3) for k, v in self.seconds.items()}
         return out
