@@ -69,3 +69,17 @@ def test_an_object_the_plan_never_moves_is_matched_where_it_stands():
     assert result.failure is None, result.failure
     assert result.execution.report["initial_state"]["matching"]["k1"][:2] == \
         pytest.approx([-40, 200], abs=5)
+
+
+def test_parallel_achieves_run_in_an_order_that_leaves_jaw_room():
+    """small-row-middle-last: in the plan's listed order the middle 12 mm cube of a row
+    comes last, with 6 mm to each neighbour: no jaw fits either way. Another order of the
+    $parallel branches does (do/tracing.py _order)."""
+    from lbw_engine.do import plan as planmod
+    from lbw_engine.pipeline.execute import execute_plan
+    from lbw_engine.rules import load_rules
+
+    plan = planmod.load(DATA / "small-row-middle-last.plan.json")
+    result = execute_plan(plan, load(DATA / "small-row-middle-last.yaml"), load_rules())
+    assert result.success, result.message
+    assert result.report["verification"] == {"cameras": True, "ground_truth": True}

@@ -313,12 +313,14 @@ class ChangeNode(EnvNodeBase):
 
     def unknown_top(self, last: Snapshot, env: EnvModel) -> tuple[float, np.ndarray | None]:
         """Share of the top view's window showing block faces that no known object (but
-        what the hand holds) explains, its outline grown by KNOWN_MM, nor the hand; and
-        where they are (on the plane at the region's centre height)."""
+        what the hand holds, unless still under it) explains, its outline grown by
+        KNOWN_MM, nor the hand; and where they are (on the plane at the region's centre
+        height)."""
         (window,) = self.detector.windows["top"]
         img, cam = last.pixels["top"], self.sight.cameras["top"]
+        held = self.hand.held_box(env)  # where the load hangs if the hand still holds it
         known = [Region3D(tuple(np.asarray(b.lo) - KNOWN_MM), tuple(np.asarray(b.hi) + KNOWN_MM))
-                 for b in _boxes_but(env, set(env.held()))]
+                 for b in _boxes_but(env, set(env.held())) + ([held[1]] if held else [])]
         new = (img >= BLOCK_MIN) & ~band(img, *HAND_BAND) & ~regions_mask(cam, known, window)
         c = centroid(new)
         if c is None:
