@@ -48,6 +48,9 @@ CASES = {
     # side; from above, the palm had hidden its spot at the first snapshot
     # (perception/vision/envnodes/change.py unknown_top)
     "small-cube-behind-a-tower": "small-cube-behind-a-tower.yaml",
+    # class 6 (bench 1290, 4x): a pick read as 'appeared', which an empty hand cannot do
+    # (perception/vision/envnodes/change.py ChangeNode.compare)
+    "class6-pick-read-as-place": "pick-read-as-place-4x.yaml",
 }
 
 

@@ -149,6 +149,12 @@ class ChangeNode(EnvNodeBase):
         if kept:
             last = self.carrying(last, held[1])
         result = det.judge(shot, last)
+        if result == (DISAPPEARED if act.special else APPEARED):
+            # the env model allows neither: an empty hand sets nothing down, a full one
+            # picks nothing up. The net change is the hand's load moving in the window
+            # (4x tremor: a cube lifted from a pyramid read as appeared, bench 1290);
+            # the holder window decides, as when nothing changed.
+            result = NO_CHANGE
         pos, top = det.target(), None
         if result == NO_CHANGE:
             # The region may be hidden at the end (the palm above it in the top view, a block
