@@ -51,6 +51,9 @@ CASES = {
     # class 6 (bench 1290, 4x): a pick read as 'appeared', which an empty hand cannot do
     # (perception/vision/envnodes/change.py ChangeNode.compare)
     "class6-pick-read-as-place": "pick-read-as-place-4x.yaml",
+    # class 6 (bench 1143, 4x): an extra NO-OP after a :Far the tracker's own point gave
+    # while a wide-open hand paused (perception/vision/envnodes/tracker.py away)
+    "class6-wide-hand-paused": "wide-hand-paused-4x.yaml",
 }
 
 
