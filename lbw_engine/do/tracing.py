@@ -31,6 +31,7 @@ from lbw_engine.do import clearing, fine, grasp, jaws
 from lbw_engine.do.balance import unbalanced
 from lbw_engine.do.expander import Command, Context, Expander
 from lbw_engine.do.fine import Alignment, PlacePlan
+from lbw_engine.do.ordering import feasible_order
 from lbw_engine.do.placement import NOT_OBJECTS, mm, placement, taught_positions
 from lbw_engine.do.plan import Operator, Plan, action_names
 from lbw_engine.errors import InputError, TaskFailed
@@ -96,9 +97,6 @@ def trace(plan: Plan, rules: CommandRules, model: EnvModel,
     return Trace(ops, model)
 
 
-SEARCH_TRIALS = 60  # branch traces an order search of one $parallel may make
-
-
 class _Walker:
     """Depth-first plan walk; a ``$parallel`` runs its branches in an order in which all can
     be done and every stack stands (else in a balanced order, branch by branch)."""
@@ -141,38 +139,20 @@ class _Walker:
 
     def _order(self, op: Operator, branches: list[Any]) -> list[int] | None:
         """An order of a ``$parallel``'s branches in which each can be done and leaves every
-        stack standing, the listed order first (depth first, at most SEARCH_TRIALS branch
-        traces on copies of the model); None if none was found.
-
-        The first branch that can be done may leave no room for a later one: three 12 mm
-        cubes in a row 6 mm apart, the middle one put last between the other two, leaves
-        no jaw room either way (bench 1086 and 1158 at 4x); the demonstration put the
-        middle one first.
-        """
+        stack standing (ordering.py), each branch traced on a copy of the model."""
         if len(branches) < 2:
             return None
-        budget = [SEARCH_TRIALS]
 
-        def search(model: EnvModel, left: list[int]) -> list[int] | None:
-            if not left:
-                return []
-            for i in left:
-                if budget[0] <= 0:
-                    return None
-                budget[0] -= 1
-                trial = _Walker(self.plan, self.rules, copy.deepcopy(model), [])
-                try:
-                    trial.plot(op, branches[i])
-                except TaskFailed:
-                    continue
-                if unbalanced(trial.model, self.rules.balance_margin) is not None:
-                    continue
-                rest = search(trial.model, [j for j in left if j != i])
-                if rest is not None:
-                    return [i, *rest]
-            return None
+        def attempt(model: EnvModel, i: int) -> EnvModel | None:
+            trial = _Walker(self.plan, self.rules, copy.deepcopy(model), [])
+            try:
+                trial.plot(op, branches[i])
+            except TaskFailed:
+                return None
+            ok = unbalanced(trial.model, self.rules.balance_margin) is None
+            return trial.model if ok else None
 
-        return search(self.model, list(range(len(branches))))
+        return feasible_order(self.model, len(branches), attempt)
 
     def _balanced(self, op: Operator, branches: list[Any]) -> int:
         """The first listed branch after which every stack still stands (balance.py).

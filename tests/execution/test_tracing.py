@@ -131,3 +131,20 @@ def test_bad_plans_are_input_errors(doc, needle):
     with pytest.raises(InputError) as exc:
         planmod.parse(doc, "plan.json")
     assert needle in exc.value.message and exc.value.file == "plan.json"
+
+
+def test_an_order_search_backs_out_of_a_dead_end():
+    """ordering.feasible_order: branch 2 can be done only before branch 0 (the middle cube
+    of a row before its neighbours); the listed order dead-ends, the search does not."""
+    from lbw_engine.do.ordering import feasible_order
+
+    def attempt(done, i):
+        if i == 2 and 0 in done:
+            return None
+        return done | {i}
+
+    assert feasible_order(frozenset(), 3, attempt) == [1, 2, 0]
+    assert feasible_order(frozenset(), 3, lambda d, i: None) is None
+    calls = []
+    assert feasible_order(frozenset(), 4, lambda d, i: calls.append(i), trials=5) is None
+    assert len(calls) == 4  # every first branch failed: 4 attempts, within the budget
