@@ -255,6 +255,24 @@ def test_every_block_of_a_three_block_stack_is_found(at, noise):
         assert np.linalg.norm(np.subtract(f.position, box.center)) < 5.0, (shape, f)
 
 
+@pytest.mark.parametrize(("at", "noise"), [((-100, 200), 2.0), ((150, 80), 4.0),
+                                           ((0, 250), 2.0)])
+def test_three_equal_blocks_stacked_are_three(at, noise):
+    """A user's three 40x40x30 blocks stacked (helper round 4, s17): the column under the
+    top face is 90 mm, the seams show, but the lower piece's front-face width was read
+    halfway up it, which for two equal blocks is exactly on their seam's crease: no
+    width, no split, and the stack was one object (``_hidden_stack``)."""
+    shapes = {"block": (40, 40, 30)}
+    truth = [block(*at, shapes["block"], z) for z in (0, 30, 60)]
+    found = ObjectFinder(CAMS, VisionResources()).find(
+        Film(noise=noise, seed=5).shoot(truth), shapes)
+    near = sorted((f for f in found if np.linalg.norm(np.subtract(f.position[:2], at)) < 30),
+                  key=lambda f: f.position[2])
+    assert [f.shape for f in near] == ["block"] * 3
+    for f, box in zip(near, truth, strict=True):
+        assert np.linalg.norm(np.subtract(f.position, box.center)) < 5.0, f
+
+
 # The rearrange family's stacks with its whole shape database (a 30x30x50 brick too):
 # (bench seed, where, pixel noise, the stack bottom up)
 REARRANGE_STACKS = [

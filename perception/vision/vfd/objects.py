@@ -190,7 +190,11 @@ class ObjectFinder(VFD):
                 low_name, low_at, low_xy, low_err = done
                 low_size = np.array([*low_xy, rest])
             else:
-                run = rims.width_at(cam, side, (cx, front, base + rest / 2.0))
+                # halfway up the rest; when that is a seam (the rest is itself two blocks
+                # of one height: a user's three-high stack, helper s17) a quarter below
+                # the top of the rest, the block the recursion below names first
+                run = next((r for f in (0.75, 0.5, 0.25) if (r := rims.width_at(
+                    cam, side, (cx, front, base + f * rest))) is not None), None)
                 if run is None:
                     continue
                 width, mid = run
