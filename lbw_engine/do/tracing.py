@@ -102,9 +102,12 @@ class _Walker:
     be done and every stack stands (else in a balanced order, branch by branch)."""
 
     def __init__(self, plan: Plan, rules: CommandRules, model: EnvModel,
-                 ops: list[TracedOp]) -> None:
-        """Walk ``plan`` against ``model``, appending traced leaves to ``ops``."""
+                 ops: list[TracedOp], search: bool = True) -> None:
+        """Walk ``plan`` against ``model``, appending traced leaves to ``ops``; ``search``:
+        look for a whole order of a ``$parallel`` (a trial walk does not: its searches
+        would nest, one budget inside another)."""
         self.plan, self.rules, self.model, self.ops = plan, rules, model, ops
+        self.search = search
         self.expander = Expander(rules, model)
         self.on_operator: Callable[[str, EnvModel], None] | None = None
 
@@ -127,7 +130,7 @@ class _Walker:
             return True
         branches = list(plot[1:])
         has_leaves = False
-        order = self._order(op, branches) if plot[0] == "$parallel" else None
+        order = self._order(op, branches) if plot[0] == "$parallel" and self.search else None
         if order is not None:
             for i in order:
                 has_leaves |= self.plot(op, branches[i])
@@ -144,7 +147,7 @@ class _Walker:
             return None
 
         def attempt(model: EnvModel, i: int) -> EnvModel | None:
-            trial = _Walker(self.plan, self.rules, copy.deepcopy(model), [])
+            trial = _Walker(self.plan, self.rules, copy.deepcopy(model), [], search=False)
             try:
                 trial.plot(op, branches[i])
             except TaskFailed:
@@ -164,7 +167,7 @@ class _Walker:
         if len(branches) < 2:
             return 0
         for i, branch in enumerate(branches):
-            trial = _Walker(self.plan, self.rules, copy.deepcopy(self.model), [])
+            trial = _Walker(self.plan, self.rules, copy.deepcopy(self.model), [], search=False)
             try:
                 trial.plot(op, branch)
             except TaskFailed:
