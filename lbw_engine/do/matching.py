@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from lbw_engine.do.placement import taught_positions
 from lbw_engine.do.plan import Plan
 from lbw_engine.errors import TaskFailed
+from lbw_engine.model.geometry import footprints_meet
 
 # The table and the hand are instantiated from calibration, never matched (Sec. VII-A 5).
 NOT_MATCHED = frozenset({"table", "hand"})
@@ -126,6 +127,6 @@ def _covered(i: int, measured: Sequence[Measured]) -> bool:
     """Whether another measured object lies on measured object ``i``."""
     a = measured[i]
     top = a.position[2] + a.size[2] / 2
-    return any(j != i and abs(b.position[2] - b.size[2] / 2 - top) <= COVER_MM and all(
-        abs(a.position[k] - b.position[k]) < (a.size[k] + b.size[k]) / 2 for k in (0, 1))
-        for j, b in enumerate(measured))
+    return any(j != i and abs(b.position[2] - b.size[2] / 2 - top) <= COVER_MM
+               and footprints_meet(a.position, a.size, b.position, b.size, tol=0.0)
+               for j, b in enumerate(measured))

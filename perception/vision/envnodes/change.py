@@ -124,7 +124,7 @@ class ChangeNode(EnvNodeBase):
         slanted): the pixels it covers now can only be left by the load itself, never by
         a block that vanished; a block set down behind another shows little, and the
         load's leaving pixels would outvote it."""
-        load = Region3D(tuple(np.asarray(held.lo) - LOAD_MM), tuple(np.asarray(held.hi) + LOAD_MM))
+        load = held.grown(LOAD_MM)
         return replace(shot, load={v: region_mask(self.sight.cameras[v], load, w)
                                    for v, (w,) in self.detector.windows.items()})
 
@@ -134,10 +134,10 @@ class ChangeNode(EnvNodeBase):
             return None
         det, shot = self.detector, first["shot"]
         place = bool(first.get("place"))
-        held = self.hand.held_box(env) if place else None
+        load = self.hand.held_box(env) if place else None  # the held block under the hand
         # the load still hangs under the hand: what it covers now is no placed block (a
         # touch with a block in hand, the hand back over the spot at the :Far)
-        kept = held is not None and self.seen_at(held[1], {held[0].name}, env) is True
+        kept = load is not None and self.seen_at(load[1], {load[0].name}, env) is True
         det.attention(shot.region)
         det.area_threshold = self.threshold(shot, first["size"], place=place,
                                             front=() if place else self.in_front(act, env))
@@ -147,7 +147,7 @@ class ChangeNode(EnvNodeBase):
         det.vanish_threshold = self.threshold(shot, first["size"]) if place else None
         last = det.take(self.sight.frame)
         if kept:
-            last = self.carrying(last, held[1])
+            last = self.carrying(last, load[1])
         result = det.judge(shot, last)
         if result == (DISAPPEARED if act.special else APPEARED):
             # the env model allows neither: an empty hand sets nothing down, a full one
@@ -173,7 +173,7 @@ class ChangeNode(EnvNodeBase):
                     shade_change(shot, last) >= det.area_threshold:
                 result = APPEARED  # set down onto or in front of blocks already in view
             elif act.special and emptied and \
-                    (seen := self.unknown_top(last, env))[0] >= det.area_threshold:
+                    (seen := self.unknown_top(last, env, load))[0] >= det.area_threshold:
                 # seen from above once the hand has left: block faces where no known object
                 # lies (the palm hid the spot at the first snapshot, a block in front hides
                 # it from the side: a 12 mm cube set behind a tower, helper round 4, s09);
@@ -317,16 +317,16 @@ class ChangeNode(EnvNodeBase):
                 return True
         return False
 
-    def unknown_top(self, last: Snapshot, env: EnvModel) -> tuple[float, np.ndarray | None]:
+    def unknown_top(self, last: Snapshot, env: EnvModel, load: tuple[EnvNode, Region3D] | None
+                    ) -> tuple[float, np.ndarray | None]:
         """Share of the top view's window showing block faces that no known object (but
-        what the hand holds, unless still under it) explains, its outline grown by
-        KNOWN_MM, nor the hand; and where they are (on the plane at the region's centre
-        height)."""
+        what the hand holds, unless still under it: ``load``, its box under the hand)
+        explains, its outline grown by KNOWN_MM, nor the hand; and where they are (on the
+        plane at the region's centre height)."""
         (window,) = self.detector.windows["top"]
         img, cam = last.pixels["top"], self.sight.cameras["top"]
-        held = self.hand.held_box(env)  # where the load hangs if the hand still holds it
-        known = [Region3D(tuple(np.asarray(b.lo) - KNOWN_MM), tuple(np.asarray(b.hi) + KNOWN_MM))
-                 for b in _boxes_but(env, set(env.held())) + ([held[1]] if held else [])]
+        known = [b.grown(KNOWN_MM)
+                 for b in _boxes_but(env, set(env.held())) + ([load[1]] if load else [])]
         new = (img >= BLOCK_MIN) & ~band(img, *HAND_BAND) & ~regions_mask(cam, known, window)
         c = centroid(new)
         if c is None:

@@ -130,7 +130,7 @@ class HandState:
         self.history: list[Sample] = []  # the path, oldest first (HISTORY_S of it)
         self._times: list[float] = []  # the samples' times, for bisection
         # (since, -1 lowest | 1 highest) -> (samples seen, that sample)
-        self._lowest: dict[tuple[float, float], tuple[int, Sample]] = {}
+        self._extremes: dict[tuple[float, float], tuple[int, Sample]] = {}
         self._rest: dict[str, np.ndarray] = {}  # object -> its last position while not held
         self._grip: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # held -> (hand, spot) grip
         self._observed: tuple | None = None  # what observe() last saw (frame, relations)
@@ -204,7 +204,7 @@ class HandState:
         if t - self._times[0] > 2 * HISTORY_S:  # trim in chunks: O(1) per frame on average
             cut = bisect.bisect_left(self._times, t - HISTORY_S)
             del self.history[:cut], self._times[:cut]
-            self._lowest.clear()
+            self._extremes.clear()
 
     # -- the hand now ------------------------------------------------------------------
     @property
@@ -243,13 +243,13 @@ class HandState:
         """The lowest (``sign`` -1) or highest (1) point since ``t``, scanning only the
         samples added since the same question was last asked."""
         start = max(0, bisect.bisect_right(self._times, t) - 1)
-        seen, best = self._lowest.get((t, sign), (start, None))
+        seen, best = self._extremes.get((t, sign), (start, None))
         for s in self.history[seen:]:
             if best is None or sign * (s.hand[2] - best.hand[2]) > 0:
                 best = s
-        self._lowest[(t, sign)] = (len(self.history), best)
-        if len(self._lowest) > 64:  # old questions are not asked again
-            self._lowest.pop(next(iter(self._lowest)))
+        self._extremes[(t, sign)] = (len(self.history), best)
+        if len(self._extremes) > 64:  # old questions are not asked again
+            self._extremes.pop(next(iter(self._extremes)))
         return best
 
     def at(self, t: float) -> Sample | None:

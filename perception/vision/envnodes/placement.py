@@ -13,6 +13,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from lbw_engine.model.env import EnvModel, EnvNode
+from lbw_engine.model.geometry import footprints_meet
 from lbw_engine.names import TABLE
 from perception.vision.camera import Camera
 from perception.vision.vfd.base import (
@@ -30,7 +31,6 @@ from perception.vision.vfd.change import ChangeDetector, Snapshot
 FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
 EXTENT_SLACK_MM = 4.0  # the side view's changed columns span the placed block's length
 MIN_SEEN = 0.2  # a block less visible than this from the side is not placed by what shows
-RESTS_MM = 3.0  # footprints overlapping by less than this along an axis: side by side
 LEVEL_MM = 12.0  # tops this close are one level (a support is never thinner than 10 mm)
 
 
@@ -137,10 +137,8 @@ def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float]
     though it ended beside it with its bottom at table height. What rests under the
     footprint at the highest level the bottom reaches is the support; nothing: the table.
     """
-    def under(n: EnvNode) -> bool:
-        return all(min(xy[k] + size[k] / 2, n.position[k] + n.size[k] / 2)
-                   - max(xy[k] - size[k] / 2, n.position[k] - n.size[k] / 2) >= RESTS_MM
-                   for k in (0, 1))
+    def under(n: EnvNode) -> bool:  # footprints sharing SUPPORT_OVERLAP_MM (3 mm) both ways
+        return footprints_meet(xy, size, n.position, n.size)
 
     if not targets or any(under(n) for n in targets):
         return ()

@@ -144,8 +144,7 @@ class SearchNode(EnvNodeBase):
         held = self.hand.held_box(env, spot=True)
         # The held block hangs over the searched place in both views: leave its outline out
         # (grown by 2 mm, for the tremor) so only what lies below it can be found.
-        exclude = [] if held is None else [
-            Region3D(tuple(np.asarray(held[1].lo) - 2.0), tuple(np.asarray(held[1].hi) + 2.0))]
+        exclude = [] if held is None else [held[1].grown(2.0)]
         # The smallest object that may lie below scales what counts as a silhouette.
         sizes = [n.size for n in env.objects() if n.name not in skip and n.size is not None]
         expect = min(sizes, key=lambda s: float(np.prod(s))) if sizes else None

@@ -59,6 +59,11 @@ class Region3D:
         return Region3D(tuple((np.asarray(self.lo) + d).tolist()),
                         tuple((np.asarray(self.hi) + d).tolist()))
 
+    def grown(self, mm: float) -> Region3D:
+        """The same box grown by ``mm`` on every side."""
+        return Region3D(tuple((np.asarray(self.lo) - mm).tolist()),
+                        tuple((np.asarray(self.hi) + mm).tolist()))
+
 
 def region_mask(cam: Camera, region: Region3D, window: Window) -> np.ndarray:
     """Boolean mask of the window's pixels that lie inside the region's projected outline."""
