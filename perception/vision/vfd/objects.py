@@ -101,6 +101,7 @@ class ObjectFinder(VFD):
                 continue
             boxes.append((height, self.footprint(rect, height), rect))
         thinnest = min((float(v[2]) for v in shapes.values()), default=0.0)
+        boxes = rims.seat_rims(boxes, self.cameras["side"], side_img, self.footprint, thinnest)
         rings = rims.find_rims(boxes, 0.6 * smallest, thinnest)
         framing = rims.pieces(boxes, rings, 0.6 * smallest)
         boxes = rims.complete_rims(boxes, framing, self.footprint, shapes)
@@ -157,7 +158,7 @@ class ObjectFinder(VFD):
 
     def _hidden_stack(self, obj: FoundObject, base: float, front: float, side: np.ndarray,
                       shapes: Mapping[str, Sequence[float]], ring=None, face=None,
-                      better: bool = False) -> list[FoundObject] | None:
+                      better: bool = False, x_seen: bool = True) -> list[FoundObject] | None:
         """Two stacked blocks where the top view shows at most a thin ring of the lower one.
 
         The column under the top face is then too tall for any shape. The side view
@@ -165,6 +166,9 @@ class ObjectFinder(VFD):
         comes from its front face there (or from the ring's outline), and the shape
         database gives the pair that explains the column best. ``better``: only a pair
         that fits the shapes better than the column (a ring that may not be one).
+        ``x_seen``: ``obj``'s x is its top face's; else (the lower part of a stack read
+        from a ring lifted to the wrong height) the upper block's x comes from its front
+        face too.
         """
         sx, sy, sz = obj.size
         if (obj.mismatch < STACK_MISMATCH_MM and ring is None) or not shapes:
@@ -219,7 +223,12 @@ class ObjectFinder(VFD):
                 face_err = abs(shapes[low_name][0] - sx) + abs(shapes[low_name][1] - sy)
             else:
                 face_err = abs(tx - sx) + abs(ty - sy)
-            err = face_err + low_err
+            # The upper block's own front face, halfway up it, must be as wide as it: a
+            # face whose outline is a lower block's (its ring merged in) fits both an
+            # upper block as wide and one inside the ring (helper v17c: 50, 40 and 30 mm
+            # blocks stacked, the middle one named 50 mm)
+            up = rims.width_at(cam, side, (cx, front, seam + tz / 2.0))
+            err = face_err + low_err + (abs(up[0] - tx) if up is not None else 0.0)
             if best is None or err < best[0]:
                 best = (err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam)
         if best is None or ((ring is None or better) and best[0] >= obj.mismatch):
@@ -227,13 +236,15 @@ class ObjectFinder(VFD):
         err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam = best
         low = FoundObject(low_name, (float(low_at[0]), float(low_at[1]), base + low_size[2] / 2),
                           tuple(float(v) for v in low_size), err)
-        top = FoundObject(top_name, (cx, cy, seam + tz / 2.0), (tx, ty, base + sz - seam), err)
+        up_x = cx if x_seen else next((r[1] for r in [rims.width_at(
+            cam, side, (cx, front, seam + tz / 2.0))] if r is not None), cx)
+        top = FoundObject(top_name, (up_x, cy, seam + tz / 2.0), (tx, ty, base + sz - seam), err)
         # The lower piece may be a stack itself (three blocks, each ring too thin to see):
         # split it again where its own column fits no shape.
         low_fit = nearest(shapes, np.array(low.size))[1]
         deeper = None if low_fit < STACK_MISMATCH_MM else self._hidden_stack(
             replace(low, mismatch=low_fit), base, front, side, shapes, None,
-            face if ring is None else ring)
+            face if ring is None else ring, x_seen=ring is None and x_seen)
         return [*(deeper or [low]), top]
 
     def smallest_face_px(self, shapes: Mapping[str, Sequence[float]]) -> float:

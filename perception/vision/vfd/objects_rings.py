@@ -70,6 +70,64 @@ def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0) -> dict
     return {j: _union(*p) if len(p) > 1 else p[0] for j, p in parts.items()}
 
 
+SEAT_MM = 3.0  # a frame's footprint and the front face under its seam agree this well
+
+
+def seat_rims(boxes: list[Box], cam, side: np.ndarray,
+              footprint: Callable[[tuple, float], tuple[float, float, float, float]],
+              thinnest: float) -> list[Box]:
+    """``boxes`` with each face that frames a higher one, yet was measured too high for a
+    block to stand between, lowered to its own seam where the side view shows one.
+
+    Rings of a stack (a tile on a cube on a block: two 5 mm rings) have top faces too
+    thin to see from the side; each ring then took the height of the top face it frames
+    or of the whole column, and its footprint, lifted that high, came out too small
+    (rearrange 1036, 1042: the block's ring read as a 40 mm cube). Its own height is a
+    seam: a crease on the front face where the face below is as wide as the ring's
+    footprint at that height (``seam_height``). Frames are seated inmost first, so an
+    outer ring is judged against the rings inside it at their own heights.
+    """
+    out = list(boxes)
+    for k in sorted(range(len(boxes)), key=lambda i: area_of(boxes[i][2])):
+        h, _, rect = out[k]
+        inner = [g for j, (g, _, q) in enumerate(out) if j != k and frames(rect, q)]
+        if not inner or h < max(inner) - max(3.0, thinnest - 3.0):
+            continue  # a lower block's own top face, with room for the one on it
+        seat = seam_height(cam, side, footprint, rect, max(inner) - 3.0)
+        if seat is not None:
+            out[k] = (seat, footprint(rect, seat), rect)
+    return out
+
+
+def seam_height(cam, side: np.ndarray,
+                footprint: Callable[[tuple, float], tuple[float, float, float, float]],
+                rect: Sequence[float], below: float) -> float | None:
+    """The height under ``below`` (mm) where the side view shows a seam on the front face
+    of the block whose top face is pixel rectangle ``rect``, that face as wide as the
+    rectangle's footprint there (within SEAT_MM), or None.
+
+    The heights whose projection falls on the crease line itself form runs, a run per
+    crease; the run whose face width fits best is the seam, and its middle the height
+    (the width varies too little with the height to place the seam within a run)."""
+    runs: list[list[tuple[float, float]]] = []  # (height, width error), per crease
+    last = None
+    for h in np.arange(5.0, below, 0.5):
+        x0, y0, x1, y1 = footprint(rect, float(h))
+        cx = (x0 + x1) / 2.0
+        run = width_at(cam, side, (cx, y0, h - SEAT_MM)) if crease_at(
+            cam, side, (cx, y0, h), reach=0) else None
+        err = abs(run[0] - (x1 - x0)) if run is not None else np.inf
+        if err <= SEAT_MM:
+            if last is None or h - last > 0.75:
+                runs.append([])
+            runs[-1].append((float(h), float(err)))
+            last = h
+    if not runs:
+        return None
+    best = min(runs, key=lambda r: min(e for _, e in r))
+    return float(np.mean([h for h, _ in best]))
+
+
 def split_rims(boxes: list[Box], skip: set[int], sliver_px: float, ringed: set[int] = frozenset()
                ) -> dict[int, tuple[tuple, tuple[int, ...]]]:
     """Upper face -> (pixel rectangle, pieces) of a rim its block cuts in two.
@@ -295,10 +353,10 @@ def _shared(a: Any, b: Any) -> float:
     return common / max(1e-9, min(float(np.prod(a.size)), float(np.prod(b.size))))
 
 
-def crease_at(cam, side: np.ndarray, point) -> bool:
-    """Whether the side view has a crease line (a seam) at ``point``, within a pixel."""
+def crease_at(cam, side: np.ndarray, point, reach: int = 1) -> bool:
+    """Whether the side view has a crease line (a seam) at ``point``, within ``reach`` px."""
     u, v = np.rint(cam.project(np.array([point]))[0]).astype(int)
-    column = side[max(0, v - 1):v + 2, u]
+    column = side[max(0, v - reach):v + reach + 1, u]
     return bool(((column > DARK_MAX) & (column <= CREASE_MAX)).any())
 
 
