@@ -44,6 +44,17 @@ ROWS = [
      "pillars"),
     (1106, "teach", "2x", 3, "a block's outline 52.7 mm under a cube: cube and block one",
      "rearrange"),
+    # stop 26: rings that show as faces of their own, read at their own seams
+    # (`lbw bench --families rearrange,stacked-start --count 48 --seed 1`, and the 300)
+    (1036, "execute", "nominal", 3, "two 5 mm rings took the tile's height: block, tile, tile",
+     "rearrange"),
+    (1042, "execute", "nominal", 5, "each block 5-9 mm off: the tile grasped low, cube and all",
+     "rearrange"),
+    (1007, "execute", "2x", 3, "a tile on a cube on a block read as two blocks", "rearrange"),
+    (1071, "teach", "4x", 3, "a sliver of the lowest ring read as a 6 mm wide cube",
+     "rearrange"),
+    (1107, "execute", "4x", 5, "the U of a cube's ring as high as its brick: one block",
+     "rearrange"),
 ]
 
 

@@ -101,7 +101,8 @@ class ObjectFinder(VFD):
                 continue
             boxes.append((height, self.footprint(rect, height), rect))
         thinnest = min((float(v[2]) for v in shapes.values()), default=0.0)
-        boxes = rims.seat_rims(boxes, self.cameras["side"], side_img, self.footprint, thinnest)
+        boxes = rims.seat_rims(boxes, self.cameras["side"], side_img, self.footprint, thinnest,
+                               0.6 * smallest)
         rings = rims.find_rims(boxes, 0.6 * smallest, thinnest)
         framing = rims.pieces(boxes, rings, 0.6 * smallest)
         boxes = rims.complete_rims(boxes, framing, self.footprint, shapes)

@@ -64,7 +64,7 @@ def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0) -> dict
             sliver = _thin(outer, sliver_px) and _touches(outer, inner)
             framed = frames(outer, inner) and h_out >= h_in - max(3.0, thinnest - 3.0)
             partial = not frames(outer, inner) and area_of(outer) > area_of(inner) and \
-                holds_centre(outer, inner)
+                holds_centre(outer, inner) and h_out < h_in + 3.0
             if sliver or framed or partial:
                 parts.setdefault(j, []).append(outer)
     return {j: _union(*p) if len(p) > 1 else p[0] for j, p in parts.items()}
@@ -75,9 +75,10 @@ SEAT_MM = 3.0  # a frame's footprint and the front face under its seam agree thi
 
 def seat_rims(boxes: list[Box], cam, side: np.ndarray,
               footprint: Callable[[tuple, float], tuple[float, float, float, float]],
-              thinnest: float) -> list[Box]:
-    """``boxes`` with each face that frames a higher one, yet was measured too high for a
-    block to stand between, lowered to its own seam where the side view shows one.
+              thinnest: float, sliver_px: float) -> list[Box]:
+    """``boxes`` with each face that frames a higher one or holds its centre (a whole
+    ring, or what the upper block leaves of it: an L or a U), yet was measured too high
+    for a block to stand between, lowered to its own seam where the side view shows one.
 
     Rings of a stack (a tile on a cube on a block: two 5 mm rings) have top faces too
     thin to see from the side; each ring then took the height of the top face it frames
@@ -85,15 +86,20 @@ def seat_rims(boxes: list[Box], cam, side: np.ndarray,
     (rearrange 1036, 1042: the block's ring read as a 40 mm cube). Its own height is a
     seam: a crease on the front face where the face below is as wide as the ring's
     footprint at that height (``seam_height``). Frames are seated inmost first, so an
-    outer ring is judged against the rings inside it at their own heights.
+    outer ring is judged against the rings inside it at their own heights. A face
+    thinner than ``sliver_px`` is a piece of a rim, never the face a rim is under.
     """
     out = list(boxes)
     for k in sorted(range(len(boxes)), key=lambda i: area_of(boxes[i][2])):
         h, _, rect = out[k]
-        inner = [g for j, (g, _, q) in enumerate(out) if j != k and frames(rect, q)]
-        if not inner or h < max(inner) - max(3.0, thinnest - 3.0):
+        inner = [(g, f) for j, (g, f, q) in enumerate(out) if j != k and not _thin(
+            q, sliver_px) and (frames(rect, q) or holds_centre(rect, q))]
+        if not inner or h < max(inner)[0] - max(3.0, thinnest - 3.0):
             continue  # a lower block's own top face, with room for the one on it
-        seat = seam_height(cam, side, footprint, rect, max(inner) - 3.0)
+        # the lower block's front is at least as far forward as the upper block's (the
+        # upper block may hide the front of the ring from above)
+        seat = seam_height(cam, side, footprint, rect, max(inner)[0] - 3.0,
+                           min(f[1] for _, f in inner))
         if seat is not None:
             out[k] = (seat, footprint(rect, seat), rect)
     return out
@@ -101,10 +107,11 @@ def seat_rims(boxes: list[Box], cam, side: np.ndarray,
 
 def seam_height(cam, side: np.ndarray,
                 footprint: Callable[[tuple, float], tuple[float, float, float, float]],
-                rect: Sequence[float], below: float) -> float | None:
+                rect: Sequence[float], below: float, front: float = np.inf) -> float | None:
     """The height under ``below`` (mm) where the side view shows a seam on the front face
     of the block whose top face is pixel rectangle ``rect``, that face as wide as the
-    rectangle's footprint there (within SEAT_MM), or None.
+    rectangle's footprint there (within SEAT_MM), or None. The front face is at the
+    footprint's front edge, or at ``front`` (y, mm) where that lies further forward.
 
     The heights whose projection falls on the crease line itself form runs, a run per
     crease; the run whose face width fits best is the seam, and its middle the height
@@ -113,7 +120,7 @@ def seam_height(cam, side: np.ndarray,
     last = None
     for h in np.arange(5.0, below, 0.5):
         x0, y0, x1, y1 = footprint(rect, float(h))
-        cx = (x0 + x1) / 2.0
+        cx, y0 = (x0 + x1) / 2.0, min(y0, front)
         run = width_at(cam, side, (cx, y0, h - SEAT_MM)) if crease_at(
             cam, side, (cx, y0, h), reach=0) else None
         err = abs(run[0] - (x1 - x0)) if run is not None else np.inf
@@ -323,13 +330,21 @@ def inside_thin_ring(top: Sequence[float], outline: Sequence[float]) -> bool:
 def consistent(found: list, shapes: Mapping[str, Sequence[float]], fits_mm: float) -> list:
     """Drop readings that fit no shape and overlap the footprint of a lower block found
     under a stack: pieces of that block's thin ring (3 px here, 2 there, at pixel noise)
-    read as columns of their own, their heights and so their footprints wrong."""
+    read as columns of their own, their heights and so their footprints wrong. A piece
+    of the lowest block's ring stands on the table as that block does, its column as
+    high: it is no higher than the block (bench 1071 at 4x, a 6 x 33 x 46 mm "cube")."""
     def over(f: Any, g: Any) -> bool:  # footprints meet, or nearly
         return footprints_meet(f.position, f.size, g.position, g.size, RING_HIDDEN_MM)
 
+    def top(f: Any) -> float:
+        return f.position[2] + f.size[2] / 2.0
+
+    def under(g: Any, f: Any) -> bool:  # g lower, or f a piece of g's own ring (as high)
+        return g.position[2] < f.position[2] or abs(top(g) - top(f)) <= RING_HIDDEN_MM
+
     fit = [nearest(shapes, np.array(f.size))[1] for f in found]  # mm from the nearest shape
     kept = [i for i, f in enumerate(found) if fit[i] < fits_mm or not any(
-        g is not f and fit[j] < fits_mm and g.position[2] < f.position[2] and over(f, g)
+        g is not f and fit[j] < fits_mm and under(g, f) and over(f, g)
         and any(h is not g and h is not f and h.position[2] > g.position[2] and over(h, g)
                 for h in found)
         for j, g in enumerate(found))]
