@@ -55,6 +55,8 @@ ROWS = [
      "rearrange"),
     (1107, "execute", "4x", 5, "the U of a cube's ring as high as its brick: one block",
      "rearrange"),
+    (1103, "teach", "2x", 4, "a cube's face seated as if a rim of its disc's: cube lost",
+     "stacked-start"),
 ]
 
 

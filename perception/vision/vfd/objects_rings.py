@@ -93,7 +93,7 @@ def seat_rims(boxes: list[Box], cam, side: np.ndarray,
     for k in sorted(range(len(boxes)), key=lambda i: area_of(boxes[i][2])):
         h, _, rect = out[k]
         inner = [(g, f) for j, (g, f, q) in enumerate(out) if j != k and not _thin(
-            q, sliver_px) and (frames(rect, q) or holds_centre(rect, q))]
+            q, sliver_px) and (frames(rect, q) or holds_centre(rect, q) and beyond(rect, q))]
         if not inner or h < max(inner)[0] - max(3.0, thinnest - 3.0):
             continue  # a lower block's own top face, with room for the one on it
         # the lower block's front is at least as far forward as the upper block's (the
@@ -103,6 +103,14 @@ def seat_rims(boxes: list[Box], cam, side: np.ndarray,
         if seat is not None:
             out[k] = (seat, footprint(rect, seat), rect)
     return out
+
+
+def beyond(rect: Sequence[float], inner: Sequence[float], tol: float = 1.0) -> bool:
+    """Whether pixel rectangle ``rect`` reaches past ``inner`` on some side (more than
+    ``tol`` px): what a rim around it does, and the top face of a block standing on
+    the block whose face ``inner`` is does not (bench 1103 at 2x, a cube on a disc)."""
+    return rect[0] < inner[0] - tol or rect[1] < inner[1] - tol or \
+        rect[2] > inner[2] + tol or rect[3] > inner[3] + tol
 
 
 def seam_height(cam, side: np.ndarray,
