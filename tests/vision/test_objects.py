@@ -405,7 +405,8 @@ def test_a_plank_between_the_cubes_on_its_ends_holds_up_both():
     truth = [("plank", block(-162, 239, shapes["plank"])),
              ("cube", block(-234, 238, shapes["cube"], 20)),
              ("cube", block(-111, 239, shapes["cube"], 20)),
-             ("disc", block(-237, 351, shapes["disc"])), ("block", block(202, 362, shapes["block"]))]
+             ("disc", block(-237, 351, shapes["disc"])),
+             ("block", block(202, 362, shapes["block"]))]
     found = ObjectFinder(CAMS, VisionResources()).find(
         Film(noise=2.0, seed=5).shoot([b for _, b in truth]), shapes)
     assert sorted(f.shape for f in found) == sorted(s for s, _ in truth), found

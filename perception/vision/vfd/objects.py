@@ -117,9 +117,10 @@ class ObjectFinder(VFD):
             height, (x0, y0, x1, y1), _ = boxes[k]
             cx, cy = (x0 + x1) / 2.0, (y0 + y1) / 2.0
             below = [h for i, (h, (a0, b0, a1, b1), _) in enumerate(boxes)
-                     if (on_rims or i not in framing) and h < height - 3.0 and ((a0 <= cx <= a1 and b0 <= cy <= b1) or (
-                         min(x1, a1) - max(x0, a0) >= SUPPORT_SHARE * (x1 - x0) and
-                         min(y1, b1) - max(y0, b0) >= SUPPORT_SHARE * (y1 - y0)))]
+                     if (on_rims or i not in framing) and h < height - 3.0 and (
+                         (a0 <= cx <= a1 and b0 <= cy <= b1) or (
+                             min(x1, a1) - max(x0, a0) >= SUPPORT_SHARE * (x1 - x0) and
+                             min(y1, b1) - max(y0, b0) >= SUPPORT_SHARE * (y1 - y0)))]
             base = max(below, default=0.0)
             size = np.array([x1 - x0, y1 - y0, height - base])
             name, mismatch = nearest(shapes, size)
