@@ -110,6 +110,7 @@ class FaultInjector:
         self._applied: set[int] = set()  # indices into ``faults``
         self._peak = 0.0
         self._armed: Fault | None = None
+        self._dropped: list[tuple[dict, str]] = []  # drop records and their bodies, in flight
 
     def begin(self, n: int) -> None:
         """The robot starts its ``n``-th ACHIEVE: arm a drop tied to it."""
@@ -120,6 +121,10 @@ class FaultInjector:
     def end(self, n: int) -> None:
         """The robot finished its ``n``-th ACHIEVE: displace or remove objects tied to it."""
         self._armed = None
+        for rec, body in self._dropped:  # landed by now: on the table, or past its edge
+            if body in self.world.names and _off_table(self.world.positions()[body]):
+                rec["off_table"] = True
+        self._dropped = []
         for f in self.faults:
             if f.when != n or f.kind == "drop":
                 continue
@@ -128,10 +133,8 @@ class FaultInjector:
                 continue  # already removed
             if f.kind == "displace":
                 self.world.displace(body, f.by)
-                x, y, _ = self.world.positions()[body]
                 # Slid past the table's edge, the object is as good as removed.
-                off = not (TABLE_X[0] <= x <= TABLE_X[1] and TABLE_Y[0] <= y <= TABLE_Y[1])
-                self._record(f, off_table=off)
+                self._record(f, off_table=_off_table(self.world.positions()[body]))
             else:
                 self.world.remove_block(body)
                 self._record(f)
@@ -147,9 +150,11 @@ class FaultInjector:
             vx = abs(world.shapes[g.holding].body.velocity[0])
             self._peak = max(self._peak, vx)
             if self._peak >= PEAK_MIN and vx < 0.9 * self._peak:  # past the middle
+                body = g.holding
                 g.open(g.opening + SLIP_MM)
                 self._armed = None
                 self._record(f)
+                self._dropped.append((self.injected[-1], body))
 
     def missed(self) -> list[dict]:
         """The scenario's faults that never fired (their ACHIEVE never ran, or their object
@@ -172,3 +177,11 @@ class FaultInjector:
         if off_table:
             rec["off_table"] = True
         self.injected.append(rec)
+
+
+def _off_table(position: Any) -> bool:
+    """Whether a body's centre lies past the table's edge (or has fallen below it): for the
+    robot the object is as good as removed (a dropped brick thrown off the table, fault
+    seed 9005)."""
+    x, y, z = position
+    return not (TABLE_X[0] <= x <= TABLE_X[1] and TABLE_Y[0] <= y <= TABLE_Y[1]) or z < 0.0

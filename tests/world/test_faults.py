@@ -141,3 +141,37 @@ def test_which_runs_the_fault_bench_counts_repairable(faults, toppled, spare, ex
     from lbw_engine.cli.bench_faults import repairable
 
     assert repairable(faults, toppled, spare) is expected
+
+
+class _Flying:
+    """A world whose arm carries block ``b`` at a peaking speed, and where it lands."""
+
+    def __init__(self, lands_at):
+        from types import SimpleNamespace as NS
+
+        self.time, self.names, self.lands_at = 0.0, ["b"], lands_at
+        self.body = NS(velocity=(0.0, 0.0))
+        self.shapes = {"b": NS(body=self.body)}
+        self.grippers = [NS(kind="arm", holding="b", opening=40.0,
+                            open=lambda width: setattr(self.grippers[0], "holding", None))]
+
+    def positions(self):
+        return {"b": self.lands_at}
+
+
+@pytest.mark.parametrize("lands_at, off", [((-1700.0, 246.0, -1.2e5), True),
+                                           ((-120.0, 200.0, 25.0), False)],
+                         ids=["thrown-off-the-table", "on-the-table"])
+def test_a_drop_that_throws_the_block_off_the_table_is_recorded_so(lands_at, off):
+    """Fault seed 9005 (drop + displace): the brick let go mid-transfer flew past the
+    table's edge. For the robot it is gone like a removed object; the bench counted the
+    run repairable, as the drop's record did not say so."""
+    world = _Flying(lands_at)
+    inj = FaultInjector(world, (Fault("drop", 1, None),), {"b": "b"})
+    inj.begin(1)
+    for vx in (100.0, 300.0, 500.0, 400.0):  # past the carry's peak speed: let go
+        world.body.velocity = (vx, 0.0)
+        inj.on_step(world)
+    assert [f["kind"] for f in inj.injected] == ["drop"]
+    inj.end(1)
+    assert inj.injected[0].get("off_table", False) is off
