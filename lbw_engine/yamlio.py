@@ -45,7 +45,18 @@ class LocList(list):
 
 
 class _Refused(yaml.MarkedYAMLError):
-    """A document outside lbw's limits (not a syntax error)."""
+    """A document outside lbw's limits (not a syntax error); ``where`` is the key path of
+    the value refused, when it is known."""
+
+    where: str | None = None
+
+
+def _refused(loader: Any, problem: str, mark: Any) -> _Refused:
+    """A refusal at ``mark`` naming the key path being read (``teach.objects.a.at[0]``)."""
+    err = _Refused(None, None, problem, mark)
+    err.where = "".join(f"[{p}]" if isinstance(p, int) else f".{p}"
+                        for p in getattr(loader, "_path", ())).lstrip(".") or None
+    return err
 
 
 class _Loader(yaml.SafeLoader):
@@ -55,6 +66,7 @@ class _Loader(yaml.SafeLoader):
         super().__init__(stream)
         self._depth = 0
         self._weight: dict[int, int] = {}  # id(node) -> values under it, aliases expanded
+        self._path: list[Any] = []  # keys and indices down to the value being constructed
 
     def compose_node(self, parent: Any, index: Any) -> yaml.Node:
         """Compose with a depth limit, and weigh each node as if aliases were copies."""
@@ -94,7 +106,7 @@ class _Loader(yaml.SafeLoader):
         try:
             return super().construct_object(node, deep=deep)
         except (ValueError, TypeError, OverflowError) as exc:
-            raise _Refused(None, None, f"cannot read this value ({first_line(exc, 80)})",
+            raise _refused(self, f"cannot read this value ({first_line(exc, 80)})",
                            node.start_mark) from None
 
 
@@ -139,13 +151,23 @@ def _construct_mapping(loader: _Loader, node: yaml.MappingNode) -> LocDict:
             raise yaml.constructor.ConstructorError(
                 None, None, f"duplicate key {key!r}", key_node.start_mark
             )
-        out[key] = loader.construct_object(value_node, deep=True)
+        loader._path.append(key)
+        try:
+            out[key] = loader.construct_object(value_node, deep=True)
+        finally:
+            loader._path.pop()
         out.lines[key] = key_node.start_mark.line + 1
     return out
 
 
 def _construct_sequence(loader: _Loader, node: yaml.SequenceNode) -> LocList:
-    out = LocList(loader.construct_object(child, deep=True) for child in node.value)
+    out = LocList()
+    for i, child in enumerate(node.value):
+        loader._path.append(i)
+        try:
+            out.append(loader.construct_object(child, deep=True))
+        finally:
+            loader._path.pop()
     out.line = node.start_mark.line + 1
     out.lines = [child.start_mark.line + 1 for child in node.value]
     return out
@@ -154,7 +176,7 @@ def _construct_sequence(loader: _Loader, node: yaml.SequenceNode) -> LocList:
 def _construct_int(loader: _Loader, node: yaml.ScalarNode) -> int:
     digits = sum(ch.isalnum() for ch in str(node.value))
     if digits > MAX_DIGITS:
-        raise _Refused(None, None, f"an integer of {digits} digits; expected a number of at "
+        raise _refused(loader, f"an integer of {digits} digits; expected a number of at "
                        f"most {MAX_DIGITS} digits", node.start_mark)
     return yaml.SafeLoader.construct_yaml_int(loader, node)
 
@@ -162,14 +184,14 @@ def _construct_int(loader: _Loader, node: yaml.ScalarNode) -> int:
 def _construct_float(loader: _Loader, node: yaml.ScalarNode) -> float:
     value = yaml.SafeLoader.construct_yaml_float(loader, node)
     if not math.isfinite(value):
-        raise _Refused(None, None, f"{str(node.value)[:40]} is not a finite number",
+        raise _refused(loader, f"{str(node.value)[:40]} is not a finite number",
                        node.start_mark)
     return value
 
 
 def _not_allowed(loader: _Loader, node: yaml.Node) -> Any:
     tag = str(node.tag).replace("tag:yaml.org,2002:", "!!")
-    raise _Refused(None, None, f"the tag {tag} is not allowed; use plain values, lists "
+    raise _refused(loader, f"the tag {tag} is not allowed; use plain values, lists "
                    "and mappings", node.start_mark)
 
 
@@ -207,8 +229,15 @@ def loads(text: str, file: str | Path = "<string>") -> Any:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark else None
         problem = exc.problem or exc.context or "invalid YAML"
+        opened = exc.context_mark
+        if exc.context and opened is not None and line is not None and opened.line + 1 < line:
+            # an unclosed bracket or quote: the line it opened on is the one to fix
+            what = exc.context.replace("while parsing a ", "").replace("while scanning a ", "")
+            problem = f"the {what} begun here is not closed ({problem} on line {line})"
+            line = opened.line + 1
         prefix = "" if isinstance(exc, _Refused) else "invalid YAML: "
-        raise InputError(prefix + problem, file=file, line=line) from None
+        raise InputError(prefix + problem, file=file, line=line,
+                         where=getattr(exc, "where", None)) from None
     except yaml.YAMLError as exc:
         raise InputError(f"invalid YAML: {first_line(exc)}", file=file) from None
 

@@ -39,13 +39,21 @@ def test_lines_are_remembered():
 ERROR_CASES = [
     # (yaml text, expected line, fragment of the message)
     ("a: 1\na: 2\n", 2, "duplicate key"),
-    ("a: [1, 2\n", 2, "invalid YAML"),
+    ("a: [1, 2\n", 1, "invalid YAML"),
     ("a: !!python/object:os.system x\n", 1, "invalid YAML"),
+    # an unclosed bracket or quote names the line it opened on, not the end of the file
+    ("a: 1\nb: {c: [1, 2]\n\n\n", 2, "the flow mapping begun here is not closed"),
+    ("a: 1\nb: 'abc\n\nc: 3\n", 2, "the quoted scalar begun here is not closed"),
+    # a value refused while loading names its key path
+    ("a:\n  b: [1, .nan]\n", 2, "a.b[1]: .nan is not a finite number"),
+    ("a:\n  - {c: !!binary abc}\n", 2, "a[0].c: the tag !!binary is not allowed"),
 ]
 
 
 @pytest.mark.parametrize(
-    "text,line,fragment", ERROR_CASES, ids=["duplicate", "syntax", "unsafe-tag"]
+    "text,line,fragment", ERROR_CASES, ids=["duplicate", "syntax", "unsafe-tag",
+                                            "unclosed-bracket", "unclosed-quote",
+                                            "nan-key-path", "tag-key-path"]
 )
 def test_errors_name_file_and_line(text, line, fragment):
     with pytest.raises(InputError) as info:
