@@ -4,7 +4,8 @@ The taught ``:at`` is kept relative to its support (``:wrt X``, X not the
 table) or in world coordinates; no ``:at`` means the centre of the supports.
 The vertical goal comes from the sizes, as the paper corrects it; a spot where
 the load would tip is moved until it stands (balance.py ``steadied``); a spot
-taken by another object makes the task impossible.
+taken by another object makes the task impossible, unless that object can be
+set aside first (tracing.py ``_clear_goal``).
 """
 
 from __future__ import annotations
@@ -47,14 +48,16 @@ def taught_positions(si: Sequence[Relation], support: Collection[str]) -> dict[s
 
 def placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
               file: str = "<plan>", where: str = "",
-              taught: Mapping[str, Vec] | None = None) -> tuple[Vec, float]:
+              taught: Mapping[str, Vec] | None = None, check: bool = True
+              ) -> tuple[Vec, float]:
     """Where ``focus`` goes for a taught support relation in the current model, and how
     far the taught spot was moved so that the load stands.
 
     A load on several supports has its ``:at`` in world coordinates (rules/effects.yaml);
     given where the supports stood when it was taught (``taught``, from the operator's
     invariant relations), it keeps its place relative to where they stand now: supports
-    the demonstration never moved start wherever the execution layout has them."""
+    the demonstration never moved start wherever the execution layout has them.
+    ``check``: a spot taken by another object is a TaskFailed (else see ``occupants``)."""
     for s in [*rel.objects, *([rel.wrt] if rel.wrt else [])]:
         if s not in NOT_OBJECTS and s not in model.bodies:
             raise InputError(f"the relation names '{s}', which is not a plan object",
@@ -83,7 +86,8 @@ def placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
     rest = model.settled(supports)  # supports rest on theirs, not at their release height
     base = max((top(rest[s], model.bodies[s].size) for s in supports), default=0.0)
     goal = (xy[0], xy[1], base + size[2] / 2 + rules.release_clearance)
-    _check_free(goal, focus, model)
+    if check:
+        _check_free(goal, focus, model)
     return goal, moved
 
 
@@ -93,19 +97,21 @@ def _centre(points: Iterable[Vec]) -> tuple[float, float]:
     return (sum(p[0] for p in ps) / len(ps), sum(p[1] for p in ps) / len(ps))
 
 
-def _check_free(goal: Vec, focus: str, model: EnvModel) -> None:
-    """A goal spot taken by another object makes the task impossible (exit 1)."""
+def occupants(goal: Vec, focus: str, model: EnvModel) -> list[str]:
+    """The objects in the way of ``focus`` (and what rides on it) at ``goal``."""
     moving = {focus, *model.supported_by(focus)}
     size = model.bodies[focus].size
-    for name, b in model.bodies.items():
-        if name in moving:
-            continue
-        if overlap(goal, size, b.position, b.size, tol=1.5):
-            kind = "" if b.relevant else ", an object the plan does not use,"
-            raise TaskFailed(
-                f"cannot place '{focus}' at {mm(goal)}: the spot is occupied by "
-                f"'{name}'{kind} at {mm(b.position)}"
-            )
+    return [name for name, b in model.bodies.items()
+            if name not in moving and overlap(goal, size, b.position, b.size, tol=1.5)]
+
+
+def _check_free(goal: Vec, focus: str, model: EnvModel) -> None:
+    """A goal spot taken by another object makes the task impossible (exit 1)."""
+    for name in occupants(goal, focus, model)[:1]:
+        b = model.bodies[name]
+        kind = "" if b.relevant else ", an object the plan does not use,"
+        raise TaskFailed(f"cannot place '{focus}' at {mm(goal)}: the spot is occupied by "
+                         f"'{name}'{kind} at {mm(b.position)}")
 
 
 def mm(v: Vec) -> str:

@@ -27,7 +27,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from lbw_engine.do import clearing, fine, grasp, jaws
+from lbw_engine.do import fine, grasp, jaws, setaside
 from lbw_engine.do.balance import unbalanced
 from lbw_engine.do.expander import Command, Context, Expander
 from lbw_engine.do.fine import Alignment, PlacePlan
@@ -225,7 +225,9 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
     if focus is not None and goal is not None:
         size = model.bodies[focus].size
         if model.holding() != focus and rule.check_jaws:
-            aside = _set_aside(plan, rules, model, expander, focus, where)
+            aside = setaside.riders(plan, rules, model, expander, focus, where)
+            aside += setaside.clear_goal(plan, rules, model, expander, focus,
+                                         _next_goal(plan, rules, model, op, leaf, focus), where)
         if model.holding() == focus:
             axis, off = model.grips.get(focus, (rules.jaw_axes[0], 0.0))
             if rule.check_jaws:
@@ -236,7 +238,7 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
             try:
                 axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
             except grasp.NoCommonGrip as exc:  # put it down on the way, take it the other way
-                aside.append(_regrasp(plan, rules, model, expander, focus, exc, where))
+                aside.append(setaside.regrasp(plan, rules, model, expander, focus, exc, where))
                 goal = model.bodies[focus].position
                 axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
             model.grips[focus] = (axis, off)
@@ -255,50 +257,6 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
                     alignment=place.alignment if place is not None else None,
                     aside=[(note, len(done), name, (spot[0], spot[1]))
                            for note, done, name, spot in aside])
-
-
-def _set_aside(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
-               focus: str, where: str) -> list[tuple[str, list[Command], str, Vec]]:
-    """Put each block that rests on ``focus`` unplanned on the table first (clearing.py)."""
-    out = []
-    for name in clearing.unplanned_riders(plan, focus, rules, model):
-        sa = clearing.plan_set_aside(plan, name, rules, model)
-        if sa is None:
-            raise TaskFailed(f"'{name}' rests on '{focus}', which the plan picks up, and "
-                             "there is no free spot on the table to set it aside")
-        start = len(expander.emitted)
-        spot = _put_down(sa, rules, model, expander, where)
-        out.append((f"'{name}' rests on '{focus}' where the plan does not put it: set aside "
-                    f"at {mm(spot)}", expander.emitted[start:], name, spot))
-    return out
-
-
-def _regrasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
-             focus: str, exc: grasp.NoCommonGrip, where: str
-             ) -> tuple[str, list[Command], str, Vec]:
-    """Put ``focus`` down where it can be taken the way its place needs (clearing.py)."""
-    sa = clearing.plan_regrasp(plan, focus, exc.picks, exc.places, rules, model)
-    if sa is None:
-        raise TaskFailed(f"{exc} (and no free spot on the table to take it again the other way)")
-    start = len(expander.emitted)
-    spot = _put_down(sa, rules, model, expander, where)
-    return (f"no one way of closing the jaws serves both where '{focus}' is and where it "
-            f"goes: put down at {mm(spot)} to be taken again", expander.emitted[start:], focus,
-            spot)
-
-
-def _put_down(sa: clearing.SetAside, rules: CommandRules, model: EnvModel,
-              expander: Expander, where: str) -> Vec:
-    """Pick a block up and put it on its table spot (commands.yaml set-aside)."""
-    size = model.bodies[sa.name].size
-    spot = (sa.spot[0], sa.spot[1], sa.spot[2] + rules.release_clearance)
-    ctx = Context(jaws.tool_point(sa.start, size, sa.axis, sa.offset, rules),
-                  size[sa.axis] + rules.margin, where, 90.0 * sa.axis,
-                  {"set-down": jaws.tool_point(spot, size, sa.axis, sa.offset, rules)})
-    model.grips[sa.name] = (sa.axis, sa.offset)
-    expander.run(rules.set_aside, ctx)
-    model.apply((), [clearing.support_on_table(sa.name, rules)])
-    return spot
 
 
 def _place_plan(op: Operator, focus: str, goal: Vec, axis: int, off: float,
@@ -343,6 +301,18 @@ def _ahead(plan: Plan, rules: CommandRules, model: EnvModel, op: Operator, leaf:
     return place
 
 
+def _next_goal(plan: Plan, rules: CommandRules, model: EnvModel, op: Operator, leaf: str,
+               focus: str) -> Vec | None:
+    """Where the next place of ``focus`` after ``leaf`` puts it, taken or not (None if
+    there is none, or it cannot be worked out now)."""
+    nxt = _next_place(plan, rules, op.name, leaf, focus)
+    try:
+        return None if nxt is None else \
+            _goal("placement", nxt, focus, rules, model, plan.file, "", check=False)[0]
+    except TaskFailed:
+        return None
+
+
 def _next_place(plan: Plan, rules: CommandRules, op_name: str, leaf: str,
                 focus: str) -> Operator | None:
     """The first operator after ``leaf`` (plot order) with a place leaf that puts ``focus``."""
@@ -379,9 +349,11 @@ def focus_object(op: Operator, rules: CommandRules, model: EnvModel) -> str | No
 
 
 def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
-          model: EnvModel, file: str, where: str) -> tuple[Vec | None, float]:
+          model: EnvModel, file: str, where: str, check: bool = True
+          ) -> tuple[Vec | None, float]:
     """A goal from one source (commands.yaml ``goal``), or None if it does not apply,
-    and how far a placement was moved so that its load stands."""
+    and how far a placement was moved so that its load stands (``check``: a spot taken
+    is a TaskFailed)."""
     if focus is None:
         return None, 0.0
     if source == "object":
@@ -391,7 +363,7 @@ def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
     if rel is None:
         return None, 0.0
     goal, moved = placement(rel, focus, rules, model, file, where,
-                            taught_positions(op.si, rules.support_relations))
+                            taught_positions(op.si, rules.support_relations), check)
     found = fine.aligned(op, focus, goal, rules, model)
     if found is not None:  # the demonstrated ALIGN: flush with its partner (fine.py)
         goal = found[0]

@@ -83,3 +83,23 @@ def test_parallel_achieves_run_in_an_order_that_leaves_jaw_room():
     result = execute_plan(plan, load(DATA / "small-row-middle-last.yaml"), load_rules())
     assert result.success, result.message
     assert result.report["verification"] == {"cameras": True, "ground_truth": True}
+
+
+@pytest.mark.parametrize(("name", "blocker", "placing"), [
+    ("plate-lying-where-its-legs-go", "pl", "l3"),  # a plan object not yet moved
+    ("disk-on-the-goal-spot", "unused-disk-1", "s"),  # an object the plan does not use
+])
+def test_what_lies_on_a_goal_spot_is_set_aside_first(name, blocker, placing):
+    """Helper round 5 (t15, t29): the execution layout has something lying where the
+    plan builds, and instantiation stopped: "the spot is occupied". Before the object
+    that goes there is picked, what lies on its spot is put on a free one
+    (do/setaside.py clear_goal), as blocks resting on a picked one already were."""
+    from lbw_engine.do import plan as planmod
+    from lbw_engine.pipeline.execute import execute_plan
+    from lbw_engine.rules import load_rules
+
+    plan = planmod.load(DATA / f"{name}.plan.json")
+    result = execute_plan(plan, load(DATA / f"{name}.yaml"), load_rules())
+    assert result.success, result.message
+    assert result.report["verification"] == {"cameras": True, "ground_truth": True}
+    assert f"'{blocker}' lies where the plan puts '{placing}': set aside" in result.commands_text

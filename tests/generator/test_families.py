@@ -190,3 +190,21 @@ def test_families_draw_touches_with_a_block_in_hand(family, seed):
         place = steps[i + 1]
         assert place.kind == "place" and place.obj == steps[i - 1].obj
         assert place.on == (touch.obj,)
+
+
+@pytest.mark.parametrize("family,seed", [("bridge", 1007), ("rearrange", 1044),
+                                         ("three-supports", 1011)])
+def test_families_draw_an_execution_object_lying_on_a_goal_spot(family, seed):
+    """Helper round 5 (t15, t29): something lies where the plan builds, and the robot must
+    set it aside first (assemble._block_a_goal, do/setaside.py clear_goal)."""
+    import re
+
+    text = generate(seed, family=family).text
+    blocker = re.search(r"; (x-[\w-]+) lies on a goal spot", text).group(1)
+    sc = load_text(text)
+    at = sc.execute.objects[blocker].center
+    size = sc.shapes[sc.execute.objects[blocker].shape]
+    final = sc.states[-1].center
+    assert any(abs(at[0] - c[0]) < (size[0] + sc.shapes[sc.teach.objects[n].shape][0]) / 2
+               and abs(at[1] - c[1]) < (size[1] + sc.shapes[sc.teach.objects[n].shape][1]) / 2
+               for n, c in final.items() if n != blocker[2:])

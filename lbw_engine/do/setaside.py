@@ -1,0 +1,92 @@
+"""Set-asides as commands (the spots are clearing.py's): riders of a block the plan picks,
+a block taken again the other way, and what lies on a spot the plan is about to fill.
+
+Each returns (why, the commands, which block, where it went), which tracing.py puts in
+front of the operation's own commands (``TracedOp.aside``).
+"""
+
+from __future__ import annotations
+
+from lbw_engine.do import clearing, grasp, jaws
+from lbw_engine.do.expander import Command, Context, Expander
+from lbw_engine.do.placement import mm, occupants
+from lbw_engine.do.plan import Plan
+from lbw_engine.errors import TaskFailed
+from lbw_engine.model.env import EnvModel
+from lbw_engine.model.geometry import Vec
+from lbw_engine.rules.commands import CommandRules
+
+Aside = tuple[str, list[Command], str, Vec]
+
+
+def riders(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+               focus: str, where: str) -> list[Aside]:
+    """Put each block that rests on ``focus`` unplanned on the table first (clearing.py)."""
+    out = []
+    for name in clearing.unplanned_riders(plan, focus, rules, model):
+        sa = clearing.plan_set_aside(plan, name, rules, model)
+        if sa is None:
+            raise TaskFailed(f"'{name}' rests on '{focus}', which the plan picks up, and "
+                             "there is no free spot on the table to set it aside")
+        start = len(expander.emitted)
+        spot = put_down(sa, rules, model, expander, where)
+        out.append((f"'{name}' rests on '{focus}' where the plan does not put it: set aside "
+                    f"at {mm(spot)}", expander.emitted[start:], name, spot))
+    return out
+
+
+def regrasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+             focus: str, exc: grasp.NoCommonGrip, where: str
+             ) -> Aside:
+    """Put ``focus`` down where it can be taken the way its place needs (clearing.py)."""
+    sa = clearing.plan_regrasp(plan, focus, exc.picks, exc.places, rules, model)
+    if sa is None:
+        raise TaskFailed(f"{exc} (and no free spot on the table to take it again the other way)")
+    start = len(expander.emitted)
+    spot = put_down(sa, rules, model, expander, where)
+    return (f"no one way of closing the jaws serves both where '{focus}' is and where it "
+            f"goes: put down at {mm(spot)} to be taken again", expander.emitted[start:], focus,
+            spot)
+
+
+def put_down(sa: clearing.SetAside, rules: CommandRules, model: EnvModel,
+              expander: Expander, where: str) -> Vec:
+    """Pick a block up and put it on its table spot (commands.yaml set-aside)."""
+    size = model.bodies[sa.name].size
+    spot = (sa.spot[0], sa.spot[1], sa.spot[2] + rules.release_clearance)
+    ctx = Context(jaws.tool_point(sa.start, size, sa.axis, sa.offset, rules),
+                  size[sa.axis] + rules.margin, where, 90.0 * sa.axis,
+                  {"set-down": jaws.tool_point(spot, size, sa.axis, sa.offset, rules)})
+    model.grips[sa.name] = (sa.axis, sa.offset)
+    expander.run(rules.set_aside, ctx)
+    model.apply((), [clearing.support_on_table(sa.name, rules)])
+    return spot
+
+
+def clear_goal(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+               focus: str, goal: Vec | None, where: str) -> list[Aside]:
+    """Before ``focus`` is picked, set aside what lies on the spot its next place fills:
+    objects the plan does not use, and plan objects not yet put where the plan wants
+    them (a user's plate lying where its legs go, helper round 5's t15; a disk on the
+    goal spot, t29), with whatever rests on them, top first, each on a free spot. What
+    the plan has placed, or no grip can take, stays, and the place reports it."""
+    out: list[Aside] = []
+    if goal is None:
+        return out
+    for name in occupants(goal, focus, model):
+        stack = [name, *model.supported_by(name)]
+        if name not in model.bodies or any(
+                n in model.placed or model.holding() == n for n in stack):
+            continue
+        for n in reversed(stack):
+            try:
+                sa = clearing.plan_set_aside(plan, n, rules, model)
+            except TaskFailed:  # no grip takes it (wider than the jaws open)
+                sa = None
+            if sa is None:
+                return out
+            start = len(expander.emitted)
+            spot = put_down(sa, rules, model, expander, where)
+            out.append((f"'{n}' lies where the plan puts '{focus}': set aside at {mm(spot)}",
+                        expander.emitted[start:], n, spot))
+    return out
