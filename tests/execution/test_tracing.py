@@ -7,7 +7,7 @@ import pytest
 from lbw_engine.do import plan as planmod
 from lbw_engine.do.listing import format_commands
 from lbw_engine.do.tracing import trace
-from lbw_engine.errors import InputError, TaskFailed
+from lbw_engine.errors import InputError
 from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.rules import load_rules
 
