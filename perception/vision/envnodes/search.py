@@ -211,6 +211,11 @@ class SearchNode(EnvNodeBase):
         while hits:
             top = max(n.top() for n in hits)
             level = [n for n in hits if n.top() >= top - TOP_TOLERANCE_MM]
+            # a block under another of the level is no co-support: its top is covered
+            # (a 15 mm cube on a 20 mm one, helper round 5's t09: the peg put on the
+            # small cube was read as put across both)
+            names = {n.name for n in level}
+            level = [n for n in level if not names & set(env.supported_by(n.name))]
             hits = [n for n in hits if n not in level]
             if float(held.lo[2]) < top - TOP_TOLERANCE_MM:
                 continue  # the held block is already below its top: it comes down beside it

@@ -9,7 +9,7 @@ half of them so their rows run along x. The families, and what each exercises:
 | gaps           | rows and 2x2 grids with 0-10 mm gaps on both axes; a block or a slab    |
 |                | narrower than the cubes across a gap, a plate on the grid               |
 | align          | a block set down near another and slid into side contact, any face      |
-| small          | 10-20 mm cubes: towers, rows, a small cube on a 40 mm cube              |
+| small          | 10-20 mm cubes: towers, rows, one on a 40 mm cube; tapered towers       |
 | pillars        | 12-18 mm wide, 110-120 mm tall pillars standing in a row                |
 | beams          | a cross of two 180 mm beams, on the table or on two bricks              |
 | bridge         | a plank across two towers (Fig. 18's multi-support place, lifted)       |
@@ -147,12 +147,21 @@ def align(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
 
 
 def small(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
-    """10-20 mm cubes: a tower, a row, or one on a 40 mm cube."""
+    """10-20 mm cubes: a tower, a row, one on a 40 mm cube, or a tapered tower of
+    blocks 30, 20 and 10 mm wide and 12-16 mm tall (the tops of a support and of the
+    block under it are no farther apart than a thin block: helper round 5, t09)."""
     s = _ri(rng, 10, 20)
     shape = ("small", (s, s, s))
-    kind = str(rng.choice(["tower", "row", "on-cube"]))
+    kind = str(rng.choice(["tower", "row", "on-cube", "tapered"]))
     p = Piece(f"small-{kind}")
-    if kind == "tower":
+    if kind == "tapered":
+        below = "table"
+        for k in range(_ri(rng, 2, 3)):
+            side = 30 - 10 * k  # told apart by size: 10 mm on two axes
+            p.put(f"{tag}-s{k + 1}", below, (0, 0) if below == "table" else None,
+                  shape=(f"small{k + 1}", (side, side, _ri(rng, 12, 16))))
+            below = f"{tag}-s{k + 1}"
+    elif kind == "tower":
         below = "table"
         for k in range(_ri(rng, 2, 3)):
             p.put(f"{tag}-s{k + 1}", below, (0, 0) if below == "table" else None, shape=shape)
