@@ -38,7 +38,14 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from lbw_engine.cli.benchscore import place_errors, true_aligns, true_final
+from lbw_engine.cli.benchscore import (  # noqa: F401 (failures, first_failure re-exported)
+    failures,
+    first_failure,
+    place_errors,
+    target_difference,
+    true_aligns,
+    true_final,
+)
 from lbw_engine.cli.benchset import LEVELS, parse_families, tasks  # noqa: F401 (re-exported)
 from lbw_engine.cli.cluster import executor, local_workers
 from lbw_engine.errors import InputError
@@ -165,6 +172,12 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     rec["place_errors_mm"] = place_errors(sc, rules.roles, true_ops, result.raw["operations"])
     rec["repairs"] = result.recognition["repair"]["repairs"]
     rec["exact_repaired"] = compare_sequence(truth, result.actions["operations"])["exact"]
+    # every operation acting on the objects it really acted on (actions.json ``target``)
+    moved = target_difference(true_ops, result.raw["operations"],
+                              teach_rename(result.raw, sc)) if rec["exact"] else "-"
+    rec["targets_exact"] = moved is None
+    if moved not in (None, "-"):
+        rec["target_difference"] = moved
     rec["plan_correct"] = rec["execution_success"] = False
     wrong = foreign_objects(sc, result.actions)
     if result.plan is not None:
@@ -186,15 +199,6 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     if failure is not None:
         rec["failure"] = failure
     rec["total_seconds"] = time.perf_counter() - start
-
-
-def first_failure(phases: dict[str, str], foreign: str | None) -> str | None:
-    """A record's ``failure``: the right operations on objects the teach workspace does not
-    hold fail recognition; otherwise the first phase after recognition that failed (a
-    sequence difference is the record's ``exact``), as ``phase: why``."""
-    if foreign:
-        return f"recognition: {foreign}"
-    return next((f"{k}: {v}" for k, v in phases.items() if k != "recognition"), None)
 
 
 def _progress(done: int, total: int, started: float, exact: int) -> None:
@@ -298,30 +302,6 @@ def bench(count: int, seed: int, jobs: int, rules_dir: str | None = None,
             "summary": summarize(records, LEVELS),
             "families": summarize_families(records, LEVELS), "failures": failures(records),
             "scenarios": records}
-
-
-def failures(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Every scenario that was not recognized exactly, not planned right or not executed."""
-    out = []
-    for r in records:
-        what = []
-        if "exact" in r and not r["exact"]:
-            mended = " (repaired to the demonstrated one)" if r.get("exact_repaired") else ""
-            what.append(f"sequence {r['difference']}{mended}")
-        if "error" in r:
-            what.append(f"crashed: {r['error']}")
-        else:
-            if r.get("failure"):
-                what.append(r["failure"])
-            elif not r.get("aligns_correct", True):
-                what.append("the plan's aligns differ from the demonstrated ones")
-            elif not r["plan_correct"]:
-                what.append("plan's final relations differ from the true ones")
-        if what:
-            out.append({"seed": r["seed"], "level": r["level"],
-                        "family": r.get("family", "classic"), "structures": r["structures"],
-                        "touches": r["touches"], "what": what})
-    return out
 
 
 def records_text(records: list[dict[str, Any]]) -> str:

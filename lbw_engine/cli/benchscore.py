@@ -48,3 +48,56 @@ def place_errors(sc: Any, roles: Any, true_ops: list, ops: list[dict[str, Any]])
         if measured is not None and rest is not None:
             out.append(round(math.dist(measured[:2], rest[:2]), 2))
     return out
+
+
+def target_difference(true_ops: list, ops: list[dict[str, Any]],
+                      rename: dict[str, str]) -> str | None:
+    """The first operation whose targets differ from the truth's, for a sequence recognized
+    exactly (``compare_sequence``): recognized names read as teach names (``rename``);
+    None when every target agrees. The trailing repeats of the last operation count as
+    one, as in the sequence's exactness."""
+    from lbw_engine.report.metrics import collapse_tail
+
+    truth = collapse_tail([{"operation": t.operation, "target": list(t.target)}
+                           for t in true_ops])
+    got = collapse_tail(ops)
+    for k, (t, op) in enumerate(zip(truth, got, strict=False)):
+        seen = sorted(rename.get(n, n) for n in op.get("target") or [])
+        if seen != sorted(t["target"]):
+            return f"at #{k} {t['operation']}: expected {sorted(t['target'])}, got {seen}"
+    return None
+
+
+def first_failure(phases: dict[str, str], foreign: str | None) -> str | None:
+    """A record's ``failure``: the right operations on objects the teach workspace does not
+    hold fail recognition; otherwise the first phase after recognition that failed (a
+    sequence difference is the record's ``exact``), as ``phase: why``."""
+    if foreign:
+        return f"recognition: {foreign}"
+    return next((f"{k}: {v}" for k, v in phases.items() if k != "recognition"), None)
+
+
+def failures(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Every scenario that was not recognized exactly, not planned right or not executed."""
+    out = []
+    for r in records:
+        what = []
+        if "exact" in r and not r["exact"]:
+            mended = " (repaired to the demonstrated one)" if r.get("exact_repaired") else ""
+            what.append(f"sequence {r['difference']}{mended}")
+        elif r.get("target_difference"):
+            what.append(f"targets {r['target_difference']}")
+        if "error" in r:
+            what.append(f"crashed: {r['error']}")
+        else:
+            if r.get("failure"):
+                what.append(r["failure"])
+            elif not r.get("aligns_correct", True):
+                what.append("the plan's aligns differ from the demonstrated ones")
+            elif not r["plan_correct"]:
+                what.append("plan's final relations differ from the true ones")
+        if what:
+            out.append({"seed": r["seed"], "level": r["level"],
+                        "family": r.get("family", "classic"), "structures": r["structures"],
+                        "touches": r["touches"], "what": what})
+    return out

@@ -163,7 +163,7 @@ def test_cameras_against_ground_truth_is_its_own_column():
     s = summarize(runs, ["a"])["a"]
     assert s["verdicts_agree_rate"] == 0.75  # the run without an execution verdict is left out
     header, row = format_table({"a": s}).splitlines()
-    assert header.split()[14] == "cams=gt" and row.split()[13] == "75%"
+    assert header.split()[15] == "cams=gt" and row.split()[15] == "75%"
 
 
 FIRST_FAILURE = [
@@ -229,3 +229,32 @@ def test_place_errors_pair_places_of_one_kind_only():
     assert place_errors(sc, roles, truth, ops("PLACE-ON-TABLE")) == [5.0]
     assert place_errors(sc, roles, truth, ops("NO-OP")) == []
     assert place_errors(sc, roles, truth, ops("PLACE-ON-TABLE")[:1]) == []
+
+
+class _True:
+    """A ground-truth operation (perception.world.groundtruth.TrueOperation) in brief."""
+
+    def __init__(self, operation, target):
+        self.operation, self.target = operation, tuple(target)
+
+
+TARGET_ROWS = [
+    # (true operations, recognized operations, rename, expected difference)
+    pytest.param([("PICK", ["b"]), ("PLACE", ["a"])],
+                 [{"operation": "PICK", "target": ["b"]}, {"operation": "PLACE", "target": ["a"]}],
+                 {}, None, id="same"),
+    pytest.param([("PLACE", ["b"])], [{"operation": "PLACE", "target": ["a", "b"]}], {},
+                 "at #0 PLACE: expected ['b'], got ['a', 'b']", id="support-under-the-support"),
+    pytest.param([("PLACE", ["b", "c"])], [{"operation": "PLACE", "target": ["c", "block1"]}],
+                 {"block1": "b"}, None, id="renamed-and-unordered"),
+    pytest.param([("W", []), ("W", [])], [{"operation": "W", "target": []}], {}, None,
+                 id="trailing-repeats-as-one"),
+]
+
+
+@pytest.mark.parametrize("truth, ops, rename, expected", TARGET_ROWS)
+def test_target_difference_names_the_first_operation_on_other_objects(truth, ops, rename,
+                                                                      expected):
+    from lbw_engine.cli.benchscore import target_difference
+
+    assert target_difference([_True(*t) for t in truth], ops, rename) == expected
