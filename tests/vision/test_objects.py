@@ -344,7 +344,7 @@ SEATED_STACKS = [
 def test_each_ring_of_a_stack_is_read_at_its_own_seam(at, noise):
     """Neither ring's top face can be seen from the side, so each took the height of the
     tile's face or of the whole column, and its footprint came out too small at that
-    height (objects_rings.seat_rims). The robot then grasped the tile 5 mm low, lifted
+    height (objects_seams.seat_rims). The robot then grasped the tile 5 mm low, lifted
     the cube with it and set both down together (bench 1042, nominal noise)."""
     shapes = {"tile": (30, 30, 20), "cube": (40, 40, 40), "block": (50, 50, 50),
               "brick": (30, 30, 50)}

@@ -21,6 +21,7 @@ import numpy as np
 
 from perception.vision.frames import Frame
 from perception.vision.vfd import objects_rings as rims
+from perception.vision.vfd import objects_seams as seams
 from perception.vision.vfd.base import DARK_MAX, VFD
 from perception.vision.vfd.objects_columns import Columns
 from perception.vision.vfd.objects_match import SilhouetteCheck, assign, frames, nearest
@@ -105,7 +106,7 @@ class ObjectFinder(VFD):
                 continue
             boxes.append((height, self.footprint(rect, height), rect))
         thinnest = min((float(v[2]) for v in shapes.values()), default=0.0)
-        boxes = rims.seat_rims(boxes, self.cameras["side"], side_img, self.footprint, thinnest,
+        boxes = seams.seat_rims(boxes, self.cameras["side"], side_img, self.footprint, thinnest,
                                0.6 * smallest)
         rings = rims.find_rims(boxes, 0.6 * smallest, thinnest)
         framing = rims.pieces(boxes, rings, 0.6 * smallest)

@@ -59,88 +59,15 @@ def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0) -> dict
             if any(k != j and frames(r, q) and h > g + 3.0 for k, (g, _, q) in enumerate(boxes))}
     for i, (h_out, _, outer) in enumerate(boxes):
         for j, (h_in, _, inner) in enumerate(boxes):
-            if i == j or _thin(inner, sliver_px) or j in over:
+            if i == j or thin(inner, sliver_px) or j in over:
                 continue  # a face thinner than any top face is a rim piece, never framed
-            sliver = _thin(outer, sliver_px) and _touches(outer, inner)
+            sliver = thin(outer, sliver_px) and _touches(outer, inner)
             framed = frames(outer, inner) and h_out >= h_in - max(3.0, thinnest - 3.0)
             partial = not frames(outer, inner) and area_of(outer) > area_of(inner) and \
                 holds_centre(outer, inner) and h_out < h_in + 3.0
             if sliver or framed or partial:
                 parts.setdefault(j, []).append(outer)
     return {j: _union(*p) if len(p) > 1 else p[0] for j, p in parts.items()}
-
-
-SEAT_MM = 3.0  # a frame's footprint and the front face under its seam agree this well
-
-
-def seat_rims(boxes: list[Box], cam, side: np.ndarray,
-              footprint: Callable[[tuple, float], tuple[float, float, float, float]],
-              thinnest: float, sliver_px: float) -> list[Box]:
-    """``boxes`` with each face that frames a higher one or holds its centre (a whole
-    ring, or what the upper block leaves of it: an L or a U), yet was measured too high
-    for a block to stand between, lowered to its own seam where the side view shows one.
-
-    Rings of a stack (a tile on a cube on a block: two 5 mm rings) have top faces too
-    thin to see from the side; each ring then took the height of the top face it frames
-    or of the whole column, and its footprint, lifted that high, came out too small
-    (rearrange 1036, 1042: the block's ring read as a 40 mm cube). Its own height is a
-    seam: a crease on the front face where the face below is as wide as the ring's
-    footprint at that height (``seam_height``). Frames are seated inmost first, so an
-    outer ring is judged against the rings inside it at their own heights. A face
-    thinner than ``sliver_px`` is a piece of a rim, never the face a rim is under.
-    """
-    out = list(boxes)
-    for k in sorted(range(len(boxes)), key=lambda i: area_of(boxes[i][2])):
-        h, _, rect = out[k]
-        inner = [(g, f) for j, (g, f, q) in enumerate(out) if j != k and not _thin(
-            q, sliver_px) and (frames(rect, q) or holds_centre(rect, q) and beyond(rect, q))]
-        if not inner or h < max(inner)[0] - max(3.0, thinnest - 3.0):
-            continue  # a lower block's own top face, with room for the one on it
-        # the lower block's front is at least as far forward as the upper block's (the
-        # upper block may hide the front of the ring from above)
-        seat = seam_height(cam, side, footprint, rect, max(inner)[0] - 3.0,
-                           min(f[1] for _, f in inner))
-        if seat is not None:
-            out[k] = (seat, footprint(rect, seat), rect)
-    return out
-
-
-def beyond(rect: Sequence[float], inner: Sequence[float], tol: float = 1.0) -> bool:
-    """Whether pixel rectangle ``rect`` reaches past ``inner`` on some side (more than
-    ``tol`` px): what a rim around it does, and the top face of a block standing on
-    the block whose face ``inner`` is does not (bench 1103 at 2x, a cube on a disc)."""
-    return rect[0] < inner[0] - tol or rect[1] < inner[1] - tol or \
-        rect[2] > inner[2] + tol or rect[3] > inner[3] + tol
-
-
-def seam_height(cam, side: np.ndarray,
-                footprint: Callable[[tuple, float], tuple[float, float, float, float]],
-                rect: Sequence[float], below: float, front: float = np.inf) -> float | None:
-    """The height under ``below`` (mm) where the side view shows a seam on the front face
-    of the block whose top face is pixel rectangle ``rect``, that face as wide as the
-    rectangle's footprint there (within SEAT_MM), or None. The front face is at the
-    footprint's front edge, or at ``front`` (y, mm) where that lies further forward.
-
-    The heights whose projection falls on the crease line itself form runs, a run per
-    crease; the run whose face width fits best is the seam, and its middle the height
-    (the width varies too little with the height to place the seam within a run)."""
-    runs: list[list[tuple[float, float]]] = []  # (height, width error), per crease
-    last = None
-    for h in np.arange(5.0, below, 0.5):
-        x0, y0, x1, y1 = footprint(rect, float(h))
-        cx, y0 = (x0 + x1) / 2.0, min(y0, front)
-        run = width_at(cam, side, (cx, y0, h - SEAT_MM)) if crease_at(
-            cam, side, (cx, y0, h), reach=0) else None
-        err = abs(run[0] - (x1 - x0)) if run is not None else np.inf
-        if err <= SEAT_MM:
-            if last is None or h - last > 0.75:
-                runs.append([])
-            runs[-1].append((float(h), float(err)))
-            last = h
-    if not runs:
-        return None
-    best = min(runs, key=lambda r: min(e for _, e in r))
-    return float(np.mean([h for h, _ in best]))
 
 
 def split_rims(boxes: list[Box], skip: set[int], sliver_px: float, ringed: set[int] = frozenset()
@@ -167,7 +94,7 @@ def split_rims(boxes: list[Box], skip: set[int], sliver_px: float, ringed: set[i
     """
     out: dict[int, tuple[tuple, tuple[int, ...]]] = {}
     for j, (h_up, _, up) in enumerate(boxes):
-        if j in skip or _thin(up, sliver_px):
+        if j in skip or thin(up, sliver_px):
             continue
         cx, cy = (up[0] + up[2]) / 2.0, (up[1] + up[3]) / 2.0
         near = [i for i, (h, _, r) in enumerate(boxes) if i != j and i not in ringed
@@ -309,11 +236,11 @@ def pieces(boxes: list[Box], rings: Mapping[int, tuple], sliver_px: float) -> se
     """The boxes that are a rim, or a sliver of one (a rim seen in several pieces): not
     the faces rimmed, nor a face that is both (the middle block of a three-block stack)."""
     return {i for i, b in enumerate(boxes) if b[2] in rings.values() or (
-        i not in rings and _thin(b[2], sliver_px) and any(within(b[2], r)
+        i not in rings and thin(b[2], sliver_px) and any(within(b[2], r)
                                                           for r in rings.values()))}
 
 
-def _thin(rect: Sequence[float], px: float) -> bool:
+def thin(rect: Sequence[float], px: float) -> bool:
     """Whether pixel rectangle ``rect`` is narrower than ``px`` on its shorter side."""
     return min(rect[2] - rect[0], rect[3] - rect[1]) < px
 
