@@ -192,8 +192,8 @@ def test_families_draw_touches_with_a_block_in_hand(family, seed):
         assert place.on == (touch.obj,)
 
 
-@pytest.mark.parametrize("family,seed", [("bridge", 1007), ("rearrange", 1044),
-                                         ("three-supports", 1011)])
+@pytest.mark.parametrize("family,seed", [("bridge", 1001), ("rearrange", 1024),
+                                         ("three-supports", 1009)])
 def test_families_draw_an_execution_object_lying_on_a_goal_spot(family, seed):
     """Helper round 5 (t15, t29): something lies where the plan builds, and the robot must
     set it aside first (assemble._block_a_goal, do/setaside.py clear_goal)."""

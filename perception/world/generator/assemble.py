@@ -11,6 +11,7 @@ to validate it (the symbolic replay of perception.world.layout).
 
 from __future__ import annotations
 
+import zlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -85,8 +86,11 @@ def draw(rng: np.random.Generator, family: str) -> Draft:
             _add_stacks(rng, stacks, picked, objects, shapes)
         layouts.append(_layout(rng, objects, shapes, stacks, taken))
     steps, touches = _steps(rng, order, layouts[0])
-    blocker = _block_a_goal(rng, layouts[1], objects, shapes, taken) \
-        if rng.random() < BLOCKED_GOAL else None  # drawn last: the rest is as before
+    # drawn from a generator of its own, seeded by the draft: every other draw (and so
+    # every scenario the bench drew before this) stays as it was
+    own = np.random.default_rng(zlib.crc32(repr((sorted(layouts[1].items()), steps)).encode()))
+    blocker = _block_a_goal(own, layouts[1], objects, shapes, taken) \
+        if own.random() < BLOCKED_GOAL else None
     return Draft(family, pieces, shapes, objects, layouts[0], layouts[1], distract, steps,
                  touches, blocker)
 
