@@ -195,6 +195,10 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
         if isinstance(checks, dict) and result.execution.report.get("stage") == "verification":
             # the cameras' verdict against the simulator's, on a finished run
             rec["verdicts_agree"] = checks["cameras"] == checks["ground_truth"]
+        # no fault is injected here: every detection is the monitor's false alarm, or a
+        # real slip of the robot's (issue #13: none on fault-free runs)
+        rec["monitor_detections"] = len(
+            (result.execution.report.get("monitor") or {}).get("detections") or [])
     failure = first_failure(result.phases, wrong)
     if failure is not None:
         rec["failure"] = failure
@@ -372,5 +376,10 @@ def run(args: argparse.Namespace) -> int:
     for f in doc["failures"]:
         print(f"  seed {f['seed']} ({f['level']}, {f['family']}: {'+'.join(f['structures'])}, "
               f"{f['touches']} touch(es)): {'; '.join(f['what'])}")
+    alarms = [r for r in records if r.get("monitor_detections")]
+    executed = sum(1 for r in records if "monitor_detections" in r)
+    print(f"runs with a monitor detection (no fault injected): {len(alarms)}/{executed}"
+          + "".join(f"\n  seed {r['seed']} ({r['level']}, {r['family']}): "
+                    f"{r['monitor_detections']} detection(s)" for r in alarms))
     print(f"summary: {out}; per-scenario records: {recs}")
     return 0

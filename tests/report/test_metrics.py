@@ -135,6 +135,10 @@ def test_lbw_bench_command(tmp_path, capsys):
     assert f"{rate} ({'21-100' if rec['exact'] else '0-79'})" in printed  # Wilson, n = 1
     assert len(doc["failures"]) == (0 if rec["exact"] and rec["plan_correct"] and
                                     rec["execution_success"] else 1)
+    # a fault-free run: the monitor's detections are counted and listed as false alarms
+    assert rec["monitor_detections"] >= 0 and "targets_exact" in rec
+    alarms = "1/1" if rec["monitor_detections"] else "0/1"
+    assert f"runs with a monitor detection (no fault injected): {alarms}" in printed
 
 
 @pytest.mark.parametrize("argv,message", [
