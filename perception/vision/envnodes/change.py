@@ -52,6 +52,7 @@ PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, a
 PICK_MARGIN_MM = 8.0
 KNOWN_MM = 3.0  # a known object's outline grown by the model's error (unknown_top)
 HOLDING, EMPTY = 0.6, 0.1  # block fraction of the holder window: an object held / none
+HOLD_SHARE = 0.5  # of the share a held block's image covers: a small block held (held_fill)
 # (a grasped block fills it, 0.9-1; after a touch a block below can show in it, ~0.3)
 # A view sees a picked target plainly if other objects' and the hand's images cover at most
 # this share of its outline there; it then still sees the target where it was if this share
@@ -108,9 +109,9 @@ class ChangeNode(EnvNodeBase):
         found = self.region(act, env)
         if found is None:
             return None
-        region, size = found
-        self.detector.attention(region)
-        shot = self.detector.take(self.sight.frame)
+        (region, size), det = found, self.detector
+        det.attention(region)
+        shot = det.take(self.sight.frame)
         held = self.hand.held_box(env) if act.special else None
         if held is not None:
             shot = self.carrying(shot, held[1])
@@ -167,7 +168,10 @@ class ChangeNode(EnvNodeBase):
             # pixels, which can only add block pixels to an empty window (``unexplained``).
             before, after = first["hold"], self.hand.tracker.holding_evidence
             emptied = self.unexplained(act, env) <= EMPTY and not kept
-            if act.special and before >= HOLDING and emptied:
+            # a small block held fills only part of the window (HandState.held_fill)
+            held = HOLDING if load is None else \
+                min(HOLDING, max(2.0 * EMPTY, HOLD_SHARE * self.hand.held_fill(load[1])))
+            if act.special and before >= held and emptied:
                 result = APPEARED
             elif act.special and emptied and \
                     shade_change(shot, last) >= det.area_threshold:
@@ -347,8 +351,7 @@ class ChangeNode(EnvNodeBase):
     @staticmethod
     def nearer(depth: float, env: EnvModel, but: frozenset[str] | set[str] = frozenset()
                ) -> list[Region3D]:
-        """Boxes of the known objects (not ``but``, not held) wholly nearer the side camera
-        than ``depth`` along y."""
+        """Boxes of known objects (not ``but``, not held) nearer the side camera than y=depth."""
         return [b for b in _boxes_but(env, set(but) | set(env.held())) if b.hi[1] <= depth]
 
     def threshold(self, shot: Snapshot, size: Sequence[float], place: bool = False,
@@ -360,11 +363,9 @@ class ChangeNode(EnvNodeBase):
         showed part of its outline, and its pick changed 0.087 of the window against
         the 0.1 asked of a cube in plain view (bench 1157, a PICK read as a NO-OP). For
         a place it is the part of the landing box's outline that is dark in the first
-        snapshot: where the block, once set down, turns pixels bright. A tall block held
-        above its spot is already in view there, and a block put on a block lands in
-        front of its support's bright faces; a fixed share of the box would ask those
-        small changes for more pixels than they can give (issue #12, small blocks and
-        pillars).
+        snapshot: where the block, once set down, turns pixels bright (a tall block held
+        above its spot is already in view there, one put on a block lands in front of
+        its support's bright faces: issue #12, small blocks and pillars).
         """
         cam, region = self.sight.cameras["side"], shot.region
         obj = Region3D.around(region.center, size)
