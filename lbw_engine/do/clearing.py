@@ -24,7 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from lbw_engine.do import grasp, jaws
-from lbw_engine.do.plan import Plan, Relation
+from lbw_engine.do.plan import Plan, Relation, action_names
 from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import TABLE, TABLE_X, TABLE_Y, Vec, overlap
 from lbw_engine.rules.commands import CommandRules
@@ -46,13 +46,39 @@ class SetAside:
 
 
 def unplanned_riders(plan: Plan, focus: str, rules: CommandRules,
-                     model: EnvModel) -> list[str]:
-    """What rests on ``focus`` that the plan did not put there nor means to carry, top first."""
+                     model: EnvModel, operator: str | None = None) -> list[str]:
+    """What rests on ``focus`` that the plan did not put there nor means to carry, and
+    everything above it, top first."""
     riders = model.supported_by(focus)
     stack = {focus, *riders}
-    meant = {r.subject for op in plan.operators.values() for r in op.si
+    # riding is what the operator picking ``focus`` (or one it is part of) keeps invariant;
+    # another operator's SI says where a block goes later, not that it rides now (a
+    # tower taught cube on cube: its cubes stacked on the slab rode along, e08b)
+    ops = _enclosing(plan, operator) if operator in plan.operators else plan.operators
+    meant = {r.subject for name in ops for r in plan.operators[name].si
              if r.type in rules.support_relations and stack & set(r.objects)}
-    return [r for r in reversed(riders) if r not in model.placed and r not in meant]
+
+    def z(r: str) -> float:
+        return model.bodies[r].position[2]
+
+    unplanned = [r for r in riders if r not in model.placed and r not in meant]
+    if not unplanned:
+        return []
+    # whatever stands higher goes first, meant to ride or not: it cannot stay up while
+    # the block under it is taken away. Top first, by height: the order of the support
+    # relations is no stacking order (three cubes on a slab: the middle one was set
+    # aside first and carried the top one along, helper round 6's e08b)
+    lowest = min(z(r) for r in unplanned)
+    return sorted((r for r in riders if z(r) >= lowest), key=lambda r: -z(r))
+
+
+def _enclosing(plan: Plan, name: str) -> list[str]:
+    """Operator ``name`` and every operator whose plot holds it, innermost first."""
+    parent = {child: n for n, op in plan.operators.items() for child in action_names(op.plot)}
+    out = [name]
+    while out[-1] in parent and parent[out[-1]] not in out:
+        out.append(parent[out[-1]])
+    return out
 
 
 def plan_set_aside(plan: Plan, name: str, rules: CommandRules,

@@ -20,10 +20,11 @@ Aside = tuple[str, list[Command], str, Vec]
 
 
 def riders(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
-               focus: str, where: str) -> list[Aside]:
-    """Put each block that rests on ``focus`` unplanned on the table first (clearing.py)."""
+           focus: str, where: str, operator: str | None = None) -> list[Aside]:
+    """Put each block that rests on ``focus`` unplanned on the table first (clearing.py);
+    ``operator``: the one picking it."""
     out = []
-    for name in clearing.unplanned_riders(plan, focus, rules, model):
+    for name in clearing.unplanned_riders(plan, focus, rules, model, operator):
         sa = clearing.plan_set_aside(plan, name, rules, model)
         if sa is None:
             raise TaskFailed(f"'{name}' rests on '{focus}', which the plan picks up, and "
@@ -78,7 +79,7 @@ def clear_goal(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
         if name not in model.bodies or any(
                 n in model.placed or model.holding() == n for n in stack):
             continue
-        for n in reversed(stack):
+        for n in sorted(stack, key=lambda n: -model.bodies[n].position[2]):  # top first
             try:
                 sa = clearing.plan_set_aside(plan, n, rules, model)
             except TaskFailed:  # no grip takes it (wider than the jaws open)

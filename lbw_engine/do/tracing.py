@@ -210,11 +210,7 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
             where: str) -> TracedOp:
     """The goal, the grip (jaws.py, grasp.py) and the place's fine motion (fine.py)."""
     focus = focus_object(op, rules, model)
-    goal, moved = None, 0.0
-    for source in rule.goal:
-        goal, moved = _goal(source, op, focus, rules, model, plan.file, where)
-        if goal is not None:
-            break
+    goal, moved = _first_goal(rule, op, focus, rules, model, plan.file, where)
     if goal is None and rule.goal:
         # The rules name where the goal comes from, but this plan offers none of it
         # (e.g. a put whose placement was lost): the task cannot be done.
@@ -225,9 +221,12 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
     if focus is not None and goal is not None:
         size = model.bodies[focus].size
         if model.holding() != focus and rule.check_jaws:
-            aside = setaside.riders(plan, rules, model, expander, focus, where)
+            aside = setaside.riders(plan, rules, model, expander, focus, where, op.name)
             aside += setaside.clear_goal(plan, rules, model, expander, focus,
                                          _next_goal(plan, rules, model, op, leaf, focus), where)
+            if any(name == focus for _, _, name, _ in aside):  # it was moved itself
+                goal, moved = _first_goal(rule, op, focus, rules, model, plan.file, where)
+                ctx.goal = goal
         if model.holding() == focus:
             axis, off = model.grips.get(focus, (rules.jaw_axes[0], 0.0))
             if rule.check_jaws:
@@ -346,6 +345,16 @@ def focus_object(op: Operator, rules: CommandRules, model: EnvModel) -> str | No
             if name not in NOT_OBJECTS and name in model.bodies:
                 return name
     return None
+
+
+def _first_goal(rule: OperationRule, op: Operator, focus: str | None, rules: CommandRules,
+                model: EnvModel, file: str, where: str) -> tuple[Vec | None, float]:
+    """The goal from the first of the rule's sources that gives one (commands.yaml)."""
+    for source in rule.goal:
+        goal, moved = _goal(source, op, focus, rules, model, file, where)
+        if goal is not None:
+            return goal, moved
+    return None, 0.0
 
 
 def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
