@@ -13,7 +13,7 @@ from lbw_engine.do.placement import mm, occupants
 from lbw_engine.do.plan import Plan
 from lbw_engine.errors import TaskFailed
 from lbw_engine.model.env import EnvModel
-from lbw_engine.model.geometry import Vec
+from lbw_engine.model.geometry import Vec, footprints_meet, top
 from lbw_engine.rules.commands import CommandRules
 
 Aside = tuple[str, list[Command], str, Vec]
@@ -74,7 +74,7 @@ def clear_goal(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
     out: list[Aside] = []
     if goal is None:
         return out
-    for name in occupants(goal, focus, model):
+    for name in occupants(goal, focus, model) + trapped(plan, rules, goal, focus, model):
         stack = [name, *model.supported_by(name)]
         if name not in model.bodies or any(
                 n in model.placed or model.holding() == n for n in stack):
@@ -91,3 +91,31 @@ def clear_goal(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
             out.append((f"'{n}' lies where the plan puts '{focus}': set aside at {mm(spot)}",
                         expander.emitted[start:], n, spot))
     return out
+
+
+SUPPORT_TOP_MM = 5.0  # a block whose top is this near a place's bottom holds it up
+
+
+def trapped(plan: Plan, rules: CommandRules, goal: Vec, focus: str, model: EnvModel
+            ) -> list[str]:
+    """Blocks lying under where ``focus`` goes, below its supports' tops: once it is put
+    there no grip reaches them (a beam lying between the two legs a crossing beam goes
+    on, bench 1271: the robot took the upper beam for it). Only those the plan moves
+    later, or does not use; a block the plan leaves standing under its structure stays."""
+    size = model.bodies[focus].size
+    bottom = goal[2] - size[2] / 2.0 - rules.release_clearance
+    placed_later = {r.subject for op in plan.operators.values() for r in op.sc_plus
+                    if r.type in rules.support_relations}
+    out = []
+    for name, b in model.bodies.items():
+        if name == focus or name in model.placed or name in model.supported_by(focus):
+            continue
+        if not footprints_meet(goal, size, b.position, b.size, tol=1.5):
+            continue
+        if top(b.position, b.size) < bottom - SUPPORT_TOP_MM and (
+                not b.relevant or name in placed_later) and not any(
+                top(model.bodies[a].position, model.bodies[a].size) >= bottom - SUPPORT_TOP_MM
+                for a in model.supported_by(name) if a in model.bodies):
+            out.append(name)
+    return out
+

@@ -130,3 +130,19 @@ def test_stacks_in_the_way_come_down_top_first_and_nothing_is_picked_where_it_wa
     assert result.report["monitor"]["detections"] == []
     asides = [line for line in result.commands_text.splitlines() if "set aside at" in line]
     assert [line.split("'")[1] for line in asides] == moved
+
+
+def test_a_block_lying_under_a_place_is_set_aside_before_it_is_built_over():
+    """lbw bench 1271 (beams, 2x): a crossing beam lay on the table between the two legs
+    the other beam goes on. Nothing stood in the upper beam's goal box, so it was put
+    over the lying one, which no grip could then reach: the robot took the upper beam
+    for it and the run ended with a leg "gone" (setaside.trapped)."""
+    from lbw_engine.do import plan as planmod
+    from lbw_engine.pipeline.execute import execute_plan
+    from lbw_engine.rules import load_rules
+
+    plan = planmod.load(DATA / "gen-1271-2x.plan.json")
+    result = execute_plan(plan, load(DATA / "gen-1271-2x.yaml"), load_rules())
+    assert result.success, result.message
+    assert result.report["monitor"]["detections"] == []
+    assert "'a-beam2' lies where the plan puts 'a-beam1': set aside" in result.commands_text
