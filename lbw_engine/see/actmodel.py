@@ -98,7 +98,7 @@ def compute_features(
                 node.found_by[name] = tuple(diff.found)
                 named = tuple(n for n in diff.found if n in env.nodes)
                 if spec.names is not None and named:
-                    setattr(node, spec.names, named)
+                    _rename(node, spec.names, named)
         else:  # target-kind, or support-kind: the kind of what the targets rest on
             targets = env.get(node.target)
             if spec.source == "support-kind":
@@ -106,6 +106,20 @@ def compute_features(
             kinds = {spec.kinds.get(n.kind) for n in targets}
             out[name] = kinds.pop() if len(kinds) == 1 else None
     return out
+
+
+def _rename(node: ActNode, slot: str, named: tuple[str, ...]) -> None:
+    """Set ``node``'s ``slot`` to what a detector named, and the same slot of the motion just
+    before it when that held the same mistaken names: the motion that came to the node
+    was after what the node acted on (the hand came down over a knob riding on a slat,
+    and the next motion lifted the slat: it came for the slat, bench rearrange
+    1213)."""
+    old = node.slot(slot)
+    setattr(node, slot, named)
+    siblings = node.parent.history if node.parent is not None else []
+    before = siblings[:siblings.index(node)] if node in siblings else siblings
+    if old and old != named and before and before[-1].slot(slot) == old:
+        setattr(before[-1], slot, named)
 
 
 def classify(rules: RuleSet, motion: str, features: dict[str, Any]) -> str | None:

@@ -51,3 +51,13 @@ def assert_supports(sc: Any, rec: Any) -> None:
     moved = {step.obj for step in sc.demonstration if step.kind in ("pick", "place")}
     recognized = {name: set(rec.env.supports_of(name)) for name in moved}
     assert recognized == {name: set(final.support[name]) for name in moved}
+
+
+def assert_targets(sc: Any, actions: dict[str, Any]) -> None:
+    """Every recognized operation acts on the objects the demonstrator's did (the bench's
+    targets column, lbw_engine.cli.benchscore.target_difference)."""
+    from lbw_engine.cli.benchscore import target_difference
+    from perception.world.groundtruth import ground_truth
+
+    assert target_difference(ground_truth(sc, RULES), actions["operations"], {}) is None
+
