@@ -414,3 +414,23 @@ def test_a_plank_between_the_cubes_on_its_ends_holds_up_both():
         near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
         assert near.shape == shape
         assert np.linalg.norm(np.subtract(near.position, box.center)) < 4.0, (shape, near)
+
+
+@pytest.mark.parametrize(("low", "wide", "at"), [
+    ((40, 40, 40), (90, 80, 20), (-180, 100)),  # helper round 6, e07: two cubes, a slab
+    ((30, 30, 45), (110, 100, 12), (200, 80)),  # e04: two legs, a table top
+], ids=["cubes-under-a-slab", "legs-under-a-top"])
+def test_two_equal_blocks_under_a_wider_one_are_two(low, wide, at):
+    """From above only the wide block shows; the side view's seam between the two under it
+    is on their own front face, 20 mm behind the wide block's front edge, where the split
+    of the lower part looked for it (``_hidden_stack``): one block twice as tall."""
+    shapes = {"low": low, "wide": wide}
+    truth = [("low", block(*at, low)), ("low", block(*at, low, low[2])),
+             ("wide", block(*at, wide, 2 * low[2]))]
+    found = ObjectFinder(CAMS, VisionResources()).find(
+        Film(noise=2.0, seed=5).shoot([b for _, b in truth]), shapes)
+    assert sorted(f.shape for f in found) == ["low", "low", "wide"], found
+    for shape, box in truth:
+        near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
+        assert near.shape == shape
+        assert np.linalg.norm(np.subtract(near.position, box.center)) < 6.0, (shape, near)

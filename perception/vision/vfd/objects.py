@@ -255,9 +255,11 @@ class ObjectFinder(VFD):
         # The lower piece may be a stack itself (three blocks, each ring too thin to see):
         # split it again where its own column fits no shape.
         low_fit = nearest(shapes, np.array(low.size))[1]
+        # its seams are on its own front face, behind a wider block's above it (two cubes
+        # under a slab that overhangs them by 20 mm, helper round 6's e07)
         deeper = None if low_fit < STACK_MISMATCH_MM else self._hidden_stack(
-            replace(low, mismatch=low_fit), base, front, side, shapes, None,
-            face if ring is None else ring, x_seen=ring is None and x_seen)
+            replace(low, mismatch=low_fit), base, max(front, low.position[1] - low.size[1] / 2),
+            side, shapes, None, face if ring is None else ring, x_seen=ring is None and x_seen)
         return [*(deeper or [low]), top]
 
     def smallest_face_px(self, shapes: Mapping[str, Sequence[float]]) -> float:
