@@ -52,7 +52,7 @@ PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, a
 PICK_MARGIN_MM = 8.0
 KNOWN_MM = 3.0  # a known object's outline grown by the model's error (unknown_top)
 HOLDING, EMPTY = 0.6, 0.1  # block fraction of the holder window: an object held / none
-HOLD_SHARE = 0.5  # of the share a held block's image covers: a small block held (held_fill)
+HOLD_SHARE = 0.35  # of the share a held block's image covers: a small block held (held_fill)
 # (a grasped block fills it, 0.9-1; after a touch a block below can show in it, ~0.3)
 # A view sees a picked target plainly if other objects' and the hand's images cover at most
 # this share of its outline there; it then still sees the target where it was if this share
@@ -170,8 +170,8 @@ class ChangeNode(EnvNodeBase):
             emptied = self.unexplained(act, env) <= EMPTY and not kept
             # a small block held fills only part of the window (HandState.held_fill)
             held = HOLDING if load is None else \
-                min(HOLDING, max(2.0 * EMPTY, HOLD_SHARE * self.hand.held_fill(load[1])))
-            if act.special and before >= held and emptied:
+                min(HOLDING, max(EMPTY, HOLD_SHARE * self.hand.held_fill(load[1])))
+            if act.special and before > EMPTY and before >= held and emptied:
                 result = APPEARED
             elif act.special and emptied and \
                     shade_change(shot, last) >= det.area_threshold:
