@@ -16,6 +16,7 @@ The same measurement, on the final views, gives the cameras' verdict.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from itertools import permutations
@@ -298,9 +299,9 @@ def _tipped(position: Any, size: Any, want: Any) -> bool:
     if position[2] - size[2] / 2.0 > ON_TABLE_MM or abs(size[2] - want[2]) <= TIPPED_MM:
         return False
     upright = sum(abs(a - b) for a, b in zip(size, want, strict=True))
-    lying = min(sum(abs(a - b) for a, b in zip(size, p, strict=True))
-                for p in permutations(want) if p[2] != want[2])
-    return lying + TIPPED_MM < upright
+    lying = min((sum(abs(a - b) for a, b in zip(size, p, strict=True))
+                 for p in permutations(want) if p[2] != want[2]), default=math.inf)
+    return lying + TIPPED_MM < upright  # a cube has no other axis up: never
 
 
 def _dims(size: Any) -> str:

@@ -200,3 +200,20 @@ def test_a_small_block_set_down_by_the_robot_is_seen_placed(tmp_path, capsys, na
     assert code == 0, err
     assert report["monitor"]["detections"] == [] and report["monitor"]["repairs"] == []
     assert all(op["agree"] for op in report["monitor"]["operations"])
+
+
+@pytest.mark.parametrize(("position", "size", "want", "tipped"), [
+    ((0, 200, 9.6), (31, 68, 19), (20, 70, 30), True),  # t35: on its side
+    ((0, 200, 15.2), (22, 70, 30.5), (20, 70, 30), False),  # upright, measured a bit off
+    ((0, 200, 20), (40, 40, 40), (40, 40, 40), False),  # a cube has no other axis up
+    ((0, 200, 20.5), (41, 39, 41), (40, 40, 40), False),  # ... whatever the noise
+    ((0, 200, 15.0), (40, 40, 30), (40, 40, 40), False),  # ... or its height read
+    ((0, 200, 49.6), (31, 68, 19), (20, 70, 30), False),  # not on the table: heights weak
+], ids=["oblong-on-its-side", "oblong-upright", "cube", "cube-noisy", "cube-read-low",
+        "off-the-table"])
+def test_which_blocks_on_the_table_have_tipped(position, size, want, tipped):
+    """monitor._tipped: fault bench 5004, 5007, 7005 and 7008 crashed on a cube, whose
+    shape has no other axis that could be up (an empty min)."""
+    from lbw_engine.pipeline.monitor import _tipped
+
+    assert _tipped(position, size, want) is tipped
