@@ -24,7 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from lbw_engine.do import grasp, jaws
-from lbw_engine.do.plan import Plan, Relation, action_names
+from lbw_engine.do.plan import Plan, Relation, parents
 from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import TABLE, TABLE_X, TABLE_Y, Vec, overlap
 from lbw_engine.rules.commands import CommandRules
@@ -58,23 +58,25 @@ def unplanned_riders(plan: Plan, focus: str, rules: CommandRules,
     meant = {r.subject for name in ops for r in plan.operators[name].si
              if r.type in rules.support_relations and stack & set(r.objects)}
 
-    def z(r: str) -> float:
-        return model.bodies[r].position[2]
-
     unplanned = [r for r in riders if r not in model.placed and r not in meant]
     if not unplanned:
         return []
     # whatever stands higher goes first, meant to ride or not: it cannot stay up while
-    # the block under it is taken away. Top first, by height: the order of the support
-    # relations is no stacking order (three cubes on a slab: the middle one was set
-    # aside first and carried the top one along, helper round 6's e08b)
-    lowest = min(z(r) for r in unplanned)
-    return sorted((r for r in riders if z(r) >= lowest), key=lambda r: -z(r))
+    # the block under it is taken away
+    lowest = min(model.bodies[r].position[2] for r in unplanned)
+    return top_first([r for r in riders if model.bodies[r].position[2] >= lowest], model)
+
+
+def top_first(names: list[str], model: EnvModel) -> list[str]:
+    """``names`` by height, the highest first: the order a stack comes down in. The order
+    of the support relations is no stacking order (three cubes on a slab: the middle one
+    was set aside first and carried the top one along, helper round 6's e08b)."""
+    return sorted(names, key=lambda n: -model.bodies[n].position[2])
 
 
 def _enclosing(plan: Plan, name: str) -> list[str]:
     """Operator ``name`` and every operator whose plot holds it, innermost first."""
-    parent = {child: n for n, op in plan.operators.items() for child in action_names(op.plot)}
+    parent = parents(plan)
     out = [name]
     while out[-1] in parent and parent[out[-1]] not in out:
         out.append(parent[out[-1]])

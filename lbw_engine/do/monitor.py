@@ -20,7 +20,7 @@ from dataclasses import dataclass, field, replace
 
 from lbw_engine.do.clearing import table_spots
 from lbw_engine.do.matching import Measured
-from lbw_engine.do.plan import Plan, Relation, action_names
+from lbw_engine.do.plan import Plan, Relation, action_names, parents
 from lbw_engine.do.tracing import TracedOp
 from lbw_engine.do.verification import ObjectState
 from lbw_engine.errors import TaskFailed
@@ -54,11 +54,7 @@ class Unit:
 
 def unit_of(plan: Plan) -> dict[str, str]:
     """Operator -> the ACHIEVE that contains it (itself for an ACHIEVE; else itself)."""
-    parent: dict[str, str] = {}
-    for name, op in plan.operators.items():
-        for child in action_names(op.plot):
-            if child in plan.operators:
-                parent[child] = name
+    parent = parents(plan)
     out = {}
     for name in plan.operators:
         at = name

@@ -5,7 +5,7 @@ table) or in world coordinates; no ``:at`` means the centre of the supports.
 The vertical goal comes from the sizes, as the paper corrects it; a spot where
 the load would tip is moved until it stands (balance.py ``steadied``); a spot
 taken by another object makes the task impossible, unless that object can be
-set aside first (tracing.py ``_clear_goal``).
+set aside first (setaside.py ``clear_goal``).
 """
 
 from __future__ import annotations
@@ -107,11 +107,12 @@ def occupants(goal: Vec, focus: str, model: EnvModel) -> list[str]:
 
 def _check_free(goal: Vec, focus: str, model: EnvModel) -> None:
     """A goal spot taken by another object makes the task impossible (exit 1)."""
-    for name in occupants(goal, focus, model)[:1]:
-        b = model.bodies[name]
+    taken = occupants(goal, focus, model)
+    if taken:
+        b = model.bodies[taken[0]]
         kind = "" if b.relevant else ", an object the plan does not use,"
         raise TaskFailed(f"cannot place '{focus}' at {mm(goal)}: the spot is occupied by "
-                         f"'{name}'{kind} at {mm(b.position)}")
+                         f"'{taken[0]}'{kind} at {mm(b.position)}")
 
 
 def mm(v: Vec) -> str:

@@ -213,6 +213,12 @@ def action_names(plot: Any) -> list[str]:
     return [n for sub in plot[1:] for n in action_names(sub)]
 
 
+def parents(plan: Plan) -> dict[str, str]:
+    """Operator -> the operator whose plot holds it."""
+    return {child: name for name, op in plan.operators.items()
+            for child in action_names(op.plot) if child in plan.operators}
+
+
 def _objects(objects: Any, fail) -> None:
     """The optional top-level objects: {name: {shape, position?}}."""
     if not isinstance(objects, dict):

@@ -7,6 +7,8 @@ front of the operation's own commands (``TracedOp.aside``).
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from lbw_engine.do import clearing, grasp, jaws
 from lbw_engine.do.expander import Command, Context, Expander
 from lbw_engine.do.placement import mm, occupants
@@ -29,10 +31,8 @@ def riders(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
         if sa is None:
             raise TaskFailed(f"'{name}' rests on '{focus}', which the plan picks up, and "
                              "there is no free spot on the table to set it aside")
-        start = len(expander.emitted)
-        spot = put_down(sa, rules, model, expander, where)
-        out.append((f"'{name}' rests on '{focus}' where the plan does not put it: set aside "
-                    f"at {mm(spot)}", expander.emitted[start:], name, spot))
+        out.append(_aside(sa, rules, model, expander, where, lambda at, n=name: (
+            f"'{n}' rests on '{focus}' where the plan does not put it: set aside at {at}")))
     return out
 
 
@@ -43,11 +43,18 @@ def regrasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
     sa = clearing.plan_regrasp(plan, focus, exc.picks, exc.places, rules, model)
     if sa is None:
         raise TaskFailed(f"{exc} (and no free spot on the table to take it again the other way)")
+    return _aside(sa, rules, model, expander, where, lambda at: (
+        f"no one way of closing the jaws serves both where '{focus}' is and where it goes: "
+        f"put down at {at} to be taken again"))
+
+
+def _aside(sa: clearing.SetAside, rules: CommandRules, model: EnvModel, expander: Expander,
+           where: str, why: Callable[[str], str]) -> Aside:
+    """Put a block on its spot (``put_down``) and say so: ``why`` of the spot, the
+    commands that did it, the block and the spot."""
     start = len(expander.emitted)
     spot = put_down(sa, rules, model, expander, where)
-    return (f"no one way of closing the jaws serves both where '{focus}' is and where it "
-            f"goes: put down at {mm(spot)} to be taken again", expander.emitted[start:], focus,
-            spot)
+    return why(mm(spot)), expander.emitted[start:], sa.name, spot
 
 
 def put_down(sa: clearing.SetAside, rules: CommandRules, model: EnvModel,
@@ -76,20 +83,17 @@ def clear_goal(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
         return out
     for name in occupants(goal, focus, model) + trapped(plan, rules, goal, focus, model):
         stack = [name, *model.supported_by(name)]
-        if name not in model.bodies or any(
-                n in model.placed or model.holding() == n for n in stack):
+        if any(n in model.placed or model.holding() == n for n in stack):
             continue
-        for n in sorted(stack, key=lambda n: -model.bodies[n].position[2]):  # top first
+        for n in clearing.top_first(stack, model):
             try:
                 sa = clearing.plan_set_aside(plan, n, rules, model)
             except TaskFailed:  # no grip takes it (wider than the jaws open)
                 sa = None
             if sa is None:
                 return out
-            start = len(expander.emitted)
-            spot = put_down(sa, rules, model, expander, where)
-            out.append((f"'{n}' lies where the plan puts '{focus}': set aside at {mm(spot)}",
-                        expander.emitted[start:], n, spot))
+            out.append(_aside(sa, rules, model, expander, where, lambda at, n=n: (
+                f"'{n}' lies where the plan puts '{focus}': set aside at {at}")))
     return out
 
 
@@ -106,9 +110,10 @@ def trapped(plan: Plan, rules: CommandRules, goal: Vec, focus: str, model: EnvMo
     bottom = goal[2] - size[2] / 2.0 - rules.release_clearance
     placed_later = {r.subject for op in plan.operators.values() for r in op.sc_plus
                     if r.type in rules.support_relations}
+    riding = set(model.supported_by(focus))
     out = []
     for name, b in model.bodies.items():
-        if name == focus or name in model.placed or name in model.supported_by(focus):
+        if name == focus or name in model.placed or name in riding:
             continue
         if not footprints_meet(goal, size, b.position, b.size, tol=1.5):
             continue
@@ -118,4 +123,3 @@ def trapped(plan: Plan, rules: CommandRules, goal: Vec, focus: str, model: EnvMo
                 for a in model.supported_by(name) if a in model.bodies):
             out.append(name)
     return out
-
