@@ -173,11 +173,13 @@ def _score(rec: dict[str, Any], sc: Any, rules_dir: str | None) -> None:
     rec["repairs"] = result.recognition["repair"]["repairs"]
     rec["exact_repaired"] = compare_sequence(truth, result.actions["operations"])["exact"]
     # every operation acting on the objects it really acted on (actions.json ``target``)
-    moved = target_difference(true_ops, result.raw["operations"],
-                              teach_rename(result.raw, sc)) if rec["exact"] else "-"
-    rec["targets_exact"] = moved is None
-    if moved not in (None, "-"):
-        rec["target_difference"] = moved
+    rec["targets_exact"] = False
+    if rec["exact"]:
+        other = target_difference(true_ops, result.raw["operations"],
+                                  teach_rename(result.raw, sc))
+        rec["targets_exact"] = other is None
+        if other is not None:
+            rec["target_difference"] = other
     rec["plan_correct"] = rec["execution_success"] = False
     wrong = foreign_objects(sc, result.actions)
     if result.plan is not None:
