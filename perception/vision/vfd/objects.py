@@ -243,14 +243,13 @@ class ObjectFinder(VFD):
             up = rims.width_at(cam, side, (cx, front, seam + tz / 2.0))
             err = face_err + low_err + (abs(up[0] - tx) if up is not None else 0.0)
             if best is None or err < best[0]:
-                best = (err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam)
+                best = (err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam, up)
         if best is None or ((ring is None or better) and best[0] >= obj.mismatch):
             return None
-        err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam = best
+        err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam, up = best
         low = FoundObject(low_name, (float(low_at[0]), float(low_at[1]), base + low_size[2] / 2),
                           tuple(float(v) for v in low_size), err)
-        up_x = cx if x_seen else next((r[1] for r in [rims.width_at(
-            cam, side, (cx, front, seam + tz / 2.0))] if r is not None), cx)
+        up_x = up[1] if not x_seen and up is not None else cx
         top = FoundObject(top_name, (up_x, cy, seam + tz / 2.0), (tx, ty, base + sz - seam), err)
         # The lower piece may be a stack itself (three blocks, each ring too thin to see):
         # split it again where its own column fits no shape.

@@ -48,11 +48,14 @@ def seat_rims(boxes: list[Box], cam, side: np.ndarray,
         h, _, rect = out[k]
         inner = [(g, f) for j, (g, f, q) in enumerate(out) if j != k and not thin(
             q, sliver_px) and (frames(rect, q) or holds_centre(rect, q) and beyond(rect, q))]
-        if not inner or h < max(inner)[0] - max(3.0, thinnest - 3.0):
+        if not inner:
+            continue
+        highest = max(g for g, _ in inner)
+        if h < highest - max(3.0, thinnest - 3.0):
             continue  # a lower block's own top face, with room for the one on it
         # the lower block's front is at least as far forward as the upper block's (the
         # upper block may hide the front of the ring from above)
-        seat = seam_height(cam, side, footprint, rect, max(inner)[0] - 3.0,
+        seat = seam_height(cam, side, footprint, rect, highest - 3.0,
                            min(f[1] for _, f in inner))
         if seat is not None:
             out[k] = (seat, footprint(rect, seat), rect)
