@@ -25,9 +25,11 @@ def scenario(tmp_path, name, faults, extra=""):
     return path
 
 
-def execute(tmp_path, name, path, capsys):
+def execute(tmp_path, name, path, capsys, plans=DATA):
+    """``lbw execute`` of plan ``name`` (in ``plans``) on scenario ``path``: the exit code,
+    execution.json and stderr."""
     out = tmp_path / "out"
-    code = main(["execute", str(DATA / f"{name}.plan.json"), str(path), "--out", str(out)])
+    code = main(["execute", str(plans / f"{name}.plan.json"), str(path), "--out", str(out)])
     err = capsys.readouterr().err
     return code, json.loads((out / "execution.json").read_text()), err
 
@@ -66,11 +68,7 @@ def test_fault_is_detected_repaired_and_verified(tmp_path, capsys, name, faults,
 def test_a_drop_beside_a_standing_block_is_repaired(tmp_path, capsys):
     """A drop is a slip (perception/world/faults.py SLIP_MM): the jaws flung fully open
     came down around the place spot 150 mm wide and toppled the leg standing beside it."""
-    out = tmp_path / "out"
-    code = main(["execute", str(DATA / "table-legs.plan.json"),
-                 str(DATA / "table-legs-drop.yaml"), "--out", str(out)])
-    err = capsys.readouterr().err
-    report = json.loads((out / "execution.json").read_text())
+    code, report, err = execute(tmp_path, "table-legs", DATA / "table-legs-drop.yaml", capsys)
     assert code == 0, err
     assert [f["kind"] for f in report["faults"]] == ["drop"]
     assert [r["operator"] for r in report["monitor"]["repairs"]] == ["achieve01"]
@@ -142,11 +140,7 @@ HIDDEN = Path(__file__).resolve().parent / "data"
 def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
     """Layouts where the finished structure's outlines fall between pixels: the expected
     poses must still be accepted (a sub-pixel offset flips whole rows of long edges)."""
-    out = tmp_path / "out"
-    code = main(["execute", str(HIDDEN / f"{name}.plan.json"), str(HIDDEN / f"{name}.yaml"),
-                 "--out", str(out)])
-    err = capsys.readouterr().err
-    report = json.loads((out / "execution.json").read_text())
+    code, report, err = execute(tmp_path, name, HIDDEN / f"{name}.yaml", capsys, HIDDEN)
     assert code == 0, err
     assert report["monitor"]["detections"] == [] and report["monitor"]["repairs"] == []
     assert [u["operator"] for u in report["monitor"]["units"]] == units
@@ -173,11 +167,8 @@ def test_a_block_tipped_onto_its_side_ends_the_run_naming_it(tmp_path, capsys):
     31 x 68 x 19 from the cameras, each extent is off by less than TOPPLED_MM, so the
     robot kept setting it down on its side and ended saying the other block was gone.
     On the table its height is reliable, and lying fits it far better than upright."""
-    out = tmp_path / "out"
-    code = main(["execute", str(DATA / "oblong-dropped-tips-over.plan.json"),
-                 str(DATA / "oblong-dropped-tips-over.yaml"), "--out", str(out)])
-    err = capsys.readouterr().err
-    report = json.loads((out / "execution.json").read_text())
+    name = "oblong-dropped-tips-over"
+    code, report, err = execute(tmp_path, name, DATA / f"{name}.yaml", capsys)
     assert code == 1, err
     assert report["failure"].startswith("execution: 'o1' lies on its side")
     assert "cannot stand it up" in report["failure"]
@@ -192,11 +183,7 @@ def test_a_small_block_set_down_by_the_robot_is_seen_placed(tmp_path, capsys, na
     detections followed and the cube was picked and placed again. A held block shows
     in the window as much as its size lets it (HandState.held_fill). lbw bench seed 1012
     (nominal, 13 mm cubes in a row along y): 0.12 of the window, four detections."""
-    out = tmp_path / "out"
-    code = main(["execute", str(DATA / f"{name}.plan.json"), str(DATA / f"{name}.yaml"),
-                 "--out", str(out)])
-    err = capsys.readouterr().err
-    report = json.loads((out / "execution.json").read_text())
+    code, report, err = execute(tmp_path, name, DATA / f"{name}.yaml", capsys)
     assert code == 0, err
     assert report["monitor"]["detections"] == [] and report["monitor"]["repairs"] == []
     assert all(op["agree"] for op in report["monitor"]["operations"])

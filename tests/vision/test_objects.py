@@ -40,6 +40,14 @@ def _layout(name):
     raise KeyError(name)
 
 
+def _each_near(found, truth, within):
+    """Each true block's nearest reading has its shape and lies within ``within`` mm."""
+    for shape, box in truth:
+        near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
+        assert near.shape == shape
+        assert np.linalg.norm(np.subtract(near.position, box.center)) < within, (shape, near)
+
+
 LAYOUTS = ["apart", "corners", "tall-behind-low", "thin-top-hidden", "stack", "brick-on-brick",
            "cube-on-brick"]
 
@@ -85,10 +93,7 @@ def test_object_finder_on_random_layouts(seed):
     found = ObjectFinder(CAMS, VisionResources()).find(
         Film(seed=seed).shoot([b for _, b in truth]), SHAPES)
     assert sorted(f.shape for f in found) == sorted(s for s, _ in truth)
-    for shape, box in truth:
-        near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
-        assert near.shape == shape
-        assert np.linalg.norm(np.subtract(near.position, box.center)) < 4.0
+    _each_near(found, truth, 4.0)
 
 
 # Issue #12 class 5 (Sec. IX-B3, two objects in contact): a 30x30x60 post standing on a
@@ -110,10 +115,7 @@ def test_a_post_standing_on_a_cube_is_found_as_two_objects(at, off):
     found = ObjectFinder(CAMS, VisionResources()).find(
         Film(seed=5).shoot([b for _, b in truth]), shapes)
     assert sorted(f.shape for f in found) == ["cube", "post"]
-    for shape, box in truth:
-        near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
-        assert near.shape == shape
-        assert np.linalg.norm(np.subtract(near.position, box.center)) < 4.0
+    _each_near(found, truth, 4.0)
 
 
 # A brick standing across the middle of a 130x40x20 beam cuts the beam's top face in two:
@@ -174,10 +176,7 @@ def test_blocks_either_side_of_a_taller_one_stay_blocks(along_x):
     found = ObjectFinder(CAMS, VisionResources()).find(
         Film(noise=2.0, seed=3).shoot([b for _, b in truth]), shapes)
     assert sorted(f.shape for f in found) == ["brick", "cube", "cube"], found
-    for shape, box in truth:
-        near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
-        assert near.shape == shape
-        assert np.linalg.norm(np.subtract(near.position, box.center)) < 5.0, (shape, near)
+    _each_near(found, truth, 5.0)
 
 
 # A brick standing on a 50 x 50 x 20 disc (the stacked-start family): the disc's 10 mm ring
@@ -323,11 +322,8 @@ def test_two_three_block_stacks_and_a_disc():
     found = ObjectFinder(CAMS, VisionResources()).find(
         Film(noise=2.0, seed=2033).shoot([b for _, b in truth]), shapes)
     assert sorted(f.shape for f in found) == sorted(s for s, _ in truth)
-    for shape, box in truth:
-        near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
-        assert near.shape == shape
-        # a middle block's x, y come from the merged rings' face: within 6 mm
-        assert np.linalg.norm(np.subtract(near.position, box.center)) < 6.0, (shape, near)
+    # a middle block's x, y come from the merged rings' face: within 6 mm
+    _each_near(found, truth, 6.0)
 
 
 # (bench seed and workspace, where, pixel noise): a tile on a cube on a block whose two
@@ -389,10 +385,7 @@ def test_a_block_half_off_its_support_stands_on_it():
     found = ObjectFinder(CAMS, VisionResources()).find(
         Film(noise=2.0, seed=5).shoot([b for _, b in truth]), shapes)
     assert sorted(f.shape for f in found) == ["block", "cube", "cube", "plank"], found
-    for shape, box in truth:
-        near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
-        assert near.shape == shape
-        assert np.linalg.norm(np.subtract(near.position, box.center)) < 4.0, (shape, near)
+    _each_near(found, truth, 4.0)
 
 
 def test_a_plank_between_the_cubes_on_its_ends_holds_up_both():
@@ -410,10 +403,7 @@ def test_a_plank_between_the_cubes_on_its_ends_holds_up_both():
     found = ObjectFinder(CAMS, VisionResources()).find(
         Film(noise=2.0, seed=5).shoot([b for _, b in truth]), shapes)
     assert sorted(f.shape for f in found) == sorted(s for s, _ in truth), found
-    for shape, box in truth:
-        near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
-        assert near.shape == shape
-        assert np.linalg.norm(np.subtract(near.position, box.center)) < 4.0, (shape, near)
+    _each_near(found, truth, 4.0)
 
 
 @pytest.mark.parametrize(("low", "wide", "at"), [
@@ -430,7 +420,4 @@ def test_two_equal_blocks_under_a_wider_one_are_two(low, wide, at):
     found = ObjectFinder(CAMS, VisionResources()).find(
         Film(noise=2.0, seed=5).shoot([b for _, b in truth]), shapes)
     assert sorted(f.shape for f in found) == ["low", "low", "wide"], found
-    for shape, box in truth:
-        near = min(found, key=lambda f: np.linalg.norm(np.subtract(f.position, box.center)))
-        assert near.shape == shape
-        assert np.linalg.norm(np.subtract(near.position, box.center)) < 6.0, (shape, near)
+    _each_near(found, truth, 6.0)
