@@ -421,3 +421,22 @@ def test_two_equal_blocks_under_a_wider_one_are_two(low, wide, at):
         Film(noise=2.0, seed=5).shoot([b for _, b in truth]), shapes)
     assert sorted(f.shape for f in found) == ["low", "low", "wide"], found
     _each_near(found, truth, 6.0)
+
+
+@pytest.mark.parametrize("at", [(250, 350), (-250, 50), (0, 350), (250, 200), (0, 200)],
+                         ids=["back-right", "front-left", "back-middle", "right", "centre"])
+def test_three_cubes_on_a_slab_anywhere_on_the_table(at):
+    """A 145 mm stack, a slab and three cubes (helper round 6, e08). Away from the top
+    camera's nadir, the top cube's face leans outwards and holds the centre of the L the
+    cubes leave of the slab's top: the finder took the measured top face for a rim and
+    lowered it to a seam, and took the slab's L for the rim right under the top cube. Near
+    the corners it found one 85 mm cube; at the centre, all four blocks."""
+    shapes = {"slab": (80, 60, 25), "cube": (40, 40, 40)}
+    truth = [("slab", block(*at, shapes["slab"]))] + [
+        ("cube", block(*at, shapes["cube"], 25 + 40 * k)) for k in range(3)]
+    found = ObjectFinder(CAMS, VisionResources()).find(
+        Film(noise=2.0, seed=5).shoot([b for _, b in truth]), shapes)
+    assert sorted(f.shape for f in found) == ["cube", "cube", "cube", "slab"], found
+    for shape, box in truth:  # each block once, where it is
+        assert any(f.shape == shape and np.linalg.norm(np.subtract(f.position, box.center)) < 5
+                   for f in found), (shape, box.center, found)

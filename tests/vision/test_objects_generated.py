@@ -57,6 +57,10 @@ ROWS = [
      "rearrange"),
     (1103, "teach", "2x", 4, "a cube's face seated as if a rim of its disc's: cube lost",
      "stacked-start"),
+    # stop 27: a rim with room for a block between it and the face it holds is a lower
+    # block's own top (`python -m bench.bench_objects --count 144 --seed 3000 --families all`)
+    (3119, "teach", "4x", 6, "the middle cube's ring sliver completed as a tile", "rearrange"),
+    (3022, "teach", "4x", None, "a stack's block read 11.6 mm off", "stacked-start"),
 ]
 
 

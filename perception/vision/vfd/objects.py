@@ -100,15 +100,18 @@ class ObjectFinder(VFD):
                                                DARK_MAX, "side": solid})
         pairing = assign(cands, cost)
         boxes = []
+        measured = set()  # boxes whose height is their own side-view top face's
         for k, rect in enumerate(faces):
             height, score = height_of(k, pairing)
             if score < MIN_SCORE:
                 continue
+            if k in pairing and pairing[k][1] >= MIN_SCORE:
+                measured.add(len(boxes))
             boxes.append((height, self.footprint(rect, height), rect))
         thinnest = min((float(v[2]) for v in shapes.values()), default=0.0)
         boxes = seams.seat_rims(boxes, self.cameras["side"], side_img, self.footprint, thinnest,
-                               0.6 * smallest)
-        rings = rims.find_rims(boxes, 0.6 * smallest, thinnest)
+                               0.6 * smallest, measured)
+        rings = rims.find_rims(boxes, 0.6 * smallest, thinnest, shapes)
         framing = rims.pieces(boxes, rings, 0.6 * smallest)
         boxes = rims.complete_rims(boxes, framing, self.footprint, shapes)
 
@@ -198,52 +201,54 @@ class ObjectFinder(VFD):
             seam = base + rest
             if rest < 5.0 or not rims.crease_at(cam, side, (cx, front, seam)):
                 continue
+            lows = []  # (name, centre x y, size, mismatch, from the ring)
             if ring is not None:  # the lower block's outline is the ring's, or shows in it
                 done = rims.complete_rim(self.footprint(ring, seam), rims.cover_of(
                     obj, self.footprint(face, seam)), (cx, cy), rest, shapes,
                     STACK_MISMATCH_MM)
-                if done is None:
-                    continue
-                low_name, low_at, low_xy, low_err = done
-                low_size = np.array([*low_xy, rest])
-            else:
-                # halfway up the rest; when that is a seam (the rest is itself two blocks
-                # of one height: a user's three-high stack, helper s17) a quarter below
-                # the top of the rest, then a quarter above its bottom. Halfway first:
-                # a quarter below the top first misread bench 1070's stack at 2x
-                run = next((r for f in (0.5, 0.75, 0.25) if (r := rims.width_at(
-                    cam, side, (cx, front, base + f * rest))) is not None), None)
-                if run is None:
-                    continue
+                if done is not None:
+                    lows.append((done[0], done[1], np.array([*done[2], rest]), done[3], True))
+            # Or from the front face's width: halfway up the rest; when that is a seam (the
+            # rest is itself two blocks of one height: a user's three-high stack, helper
+            # s17) a quarter below the top of the rest, then a quarter above its bottom.
+            # Halfway first: a quarter below the top first misread bench 1070's stack at
+            # 2x. A ring may be the sliver of a middle block's (bench 3119 at 4x).
+            run = next((r for f in (0.5, 0.75, 0.25) if (r := rims.width_at(
+                cam, side, (cx, front, base + f * rest))) is not None), None)
+            if run is not None:
                 width, mid = run
                 # wider than what the upper block hides from above: its top would show
                 c0, d0, c1, d1 = rims.cover_of(obj, self.footprint(face, seam))
-                fits = {n: abs(lx - width) + abs(lz - rest)
+                # a rest no shape is as tall as is a stack itself, split again below:
+                # its width alone names it (three 40 mm cubes stacked, generated
+                # stacked-start 1012: the two under the top one were called a brick)
+                tall = all(abs(v[2] - rest) > STACK_MISMATCH_MM for v in shapes.values())
+                fits = {n: abs(lx - width) + (0.0 if tall else abs(lz - rest))
                         for n, (lx, ly, lz) in shapes.items()
                         if rims.inside_thin_ring((max(sx, c1 - c0), max(sy, d1 - d0)), (lx, ly))
                         or (lx <= max(sx, c1 - c0) + 8.0 and ly <= max(sy, d1 - d0) + 8.0)}
-                if not fits:
-                    continue
-                low_name = min(fits, key=fits.get)
-                low_err = fits[low_name]
-                low_size = np.array([width, shapes[low_name][1], rest])
-                low_at = (mid, cy)  # x from the front face: the upper block may stand off-centre
-            if ring is None and (tx, ty) != (sx, sy):
-                # The face measured is the thin rings' outer edge, the lower block's
-                # outline: that is what it must match, not the upper block hidden inside
-                # (a cube in a block's 5 mm ring paid the 10 mm ring twice and lost to a
-                # block on a cube: rearrange 1141, 1214).
-                face_err = abs(shapes[low_name][0] - sx) + abs(shapes[low_name][1] - sy)
-            else:
-                face_err = abs(tx - sx) + abs(ty - sy)
+                if fits:
+                    n = min(fits, key=fits.get)
+                    # x from the front face: the upper block may stand off-centre
+                    lows.append((n, (mid, cy), np.array([width, shapes[n][1], rest]),
+                                 fits[n], False))
             # The upper block's own front face, halfway up it, must be as wide as it: a
             # face whose outline is a lower block's (its ring merged in) fits both an
             # upper block as wide and one inside the ring (helper v17c: 50, 40 and 30 mm
             # blocks stacked, the middle one named 50 mm)
-            up = rims.width_at(cam, side, (cx, front, seam + tz / 2.0))
-            err = face_err + low_err + (abs(up[0] - tx) if up is not None else 0.0)
-            if best is None or err < best[0]:
-                best = (err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam, up)
+            up = rims.width_at(cam, side, (cx, front, seam + tz / 2.0)) if lows else None
+            for low_name, low_at, low_size, low_err, of_ring in lows:
+                if not of_ring and (tx, ty) != (sx, sy):
+                    # The face measured is the thin rings' outer edge, the lower block's
+                    # outline: that is what it must match, not the upper block hidden
+                    # inside (a cube in a block's 5 mm ring paid the 10 mm ring twice and
+                    # lost to a block on a cube: rearrange 1141, 1214).
+                    face_err = abs(shapes[low_name][0] - sx) + abs(shapes[low_name][1] - sy)
+                else:
+                    face_err = abs(tx - sx) + abs(ty - sy)
+                err = face_err + low_err + (abs(up[0] - tx) if up is not None else 0.0)
+                if best is None or err < best[0]:
+                    best = (err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam, up)
         if best is None or ((ring is None or better) and best[0] >= obj.mismatch):
             return None
         err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam, up = best

@@ -36,10 +36,12 @@ FRONT_BAND = (150, 190)  # faces facing -y (the side camera) are drawn at 170
 
 Box = tuple[float, tuple[float, float, float, float], tuple]  # (height, footprint, pixel rect)
 
+STACK_XY_MM = 8.0  # a top face this close to a shape's footprint may be that shape's
 EDGE_MM = 1.5  # a rim edge counts as seen when it lies this far outside the cover
 
 
-def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0) -> dict[int, tuple]:
+def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0,
+              shapes: Mapping[str, Sequence[float]] | None = None) -> dict[int, tuple]:
     """Upper face -> the pixel rectangle of the rim seen around it, measured as high as it.
 
     A narrow rim is hardly seen from the side and may come out as high as the column
@@ -51,6 +53,9 @@ def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0) -> dict
     measured less than the thinnest shape (``thinnest``, mm) below the upper face, less
     3 mm: no block of the database could stand between (a tile on a cube on a block,
     bench seed 2033: the merged rings came out at 106 mm under the tile's 110 mm).
+    An L or a U is a rim of the block under the upper face only if no block of the
+    database (``shapes``) fits between them: else it is the top face of a lower block,
+    with blocks hidden between (``_room_between``).
     """
     parts: dict[int, list[tuple]] = {}
     # A face framing a lower one is measured too high: a box there would hide the lower
@@ -64,10 +69,22 @@ def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0) -> dict
             sliver = thin(outer, sliver_px) and _touches(outer, inner)
             framed = frames(outer, inner) and h_out >= h_in - max(3.0, thinnest - 3.0)
             partial = not frames(outer, inner) and area_of(outer) > area_of(inner) and \
-                holds_centre(outer, inner) and h_out < h_in + 3.0
+                holds_centre(outer, inner) and h_out < h_in + 3.0 and \
+                not _room_between(boxes[j], h_out, thinnest, shapes)
             if sliver or framed or partial:
                 parts.setdefault(j, []).append(outer)
     return {j: _union(*p) if len(p) > 1 else p[0] for j, p in parts.items()}
+
+
+def _room_between(upper: Box, low: float, thinnest: float,
+                  shapes: Mapping[str, Sequence[float]] | None) -> bool:
+    """Whether a block of the database fits between height ``low`` and the bottom of
+    ``upper`` read as the tallest shape its footprint may be: three cubes on a slab near
+    the table's corner show the slab's top as an L around the top cube (helper e08)."""
+    h, (x0, y0, x1, y1), _ = upper
+    tall = [float(s[2]) for s in (shapes or {}).values()
+            if abs(float(s[0]) - (x1 - x0)) + abs(float(s[1]) - (y1 - y0)) <= STACK_XY_MM]
+    return bool(tall) and h - max(tall) - low > max(3.0, thinnest - 3.0)
 
 
 def split_rims(boxes: list[Box], skip: set[int], sliver_px: float, ringed: set[int] = frozenset()

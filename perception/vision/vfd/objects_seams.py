@@ -24,12 +24,13 @@ from perception.vision.vfd.objects_rings import (
     width_at,
 )
 
-SEAT_MM = 3.0  # a frame's footprint and the front face under its seam agree this well
+SEAT_MM = 4.5  # a frame's footprint and the front face under its seam agree this well
 
 
 def seat_rims(boxes: list[Box], cam, side: np.ndarray,
               footprint: Callable[[tuple, float], tuple[float, float, float, float]],
-              thinnest: float, sliver_px: float) -> list[Box]:
+              thinnest: float, sliver_px: float, measured: set[int] = frozenset()
+              ) -> list[Box]:
     """``boxes`` with each face that frames a higher one or holds its centre (a whole
     ring, or what the upper block leaves of it: an L or a U), yet was measured too high
     for a block to stand between, lowered to its own seam where the side view shows one.
@@ -42,10 +43,17 @@ def seat_rims(boxes: list[Box], cam, side: np.ndarray,
     footprint at that height (``seam_height``). Frames are seated inmost first, so an
     outer ring is judged against the rings inside it at their own heights. A face
     thinner than ``sliver_px`` is a piece of a rim, never the face a rim is under.
+
+    The boxes in ``measured`` took their height from a side-view top face of their own:
+    they stay. Near the table's edges a tall stack's top face, shifted outwards by the
+    top camera's perspective, holds the centre of what the stack leaves visible of the
+    face under it (a cube on three cubes on a slab at (250, 350), helper e08).
     """
     out = list(boxes)
     for k in sorted(range(len(boxes)), key=lambda i: area_of(boxes[i][2])):
         h, _, rect = out[k]
+        if k in measured:
+            continue
         inner = [(g, f) for j, (g, f, q) in enumerate(out) if j != k and not thin(
             q, sliver_px) and (frames(rect, q) or holds_centre(rect, q) and beyond(rect, q))]
         if not inner:

@@ -122,10 +122,20 @@ def _block_a_goal(rng: np.random.Generator, layout: dict, objects: dict, shapes:
 
 def _add_stacks(rng: np.random.Generator, stacks: dict, picked: list[str], objects: dict,
                 shapes: dict) -> None:
-    """One or two stacks: a top picked before its base (or resting on a distractor)."""
+    """One or two stacks: a top picked before its base (or resting on a distractor). One
+    draft in three grows a stack a block or two higher (helper round 6, e08: a slab and
+    three cubes, whose top cube near the table's corners hid the stack from the finder)."""
+    def high(n: str) -> float:
+        """The height of the stack whose bottom block is ``n``."""
+        return shapes[objects[n]][2] + sum(high(t) for t, b in stacks.items() if b == n)
+
+    def bottom(n: str) -> str:
+        return bottom(stacks[n]) if n in stacks else n
+
     def fits(top: str, base: str) -> bool:
         t, b = shapes[objects[top]], shapes[objects[base]]
-        return t[0] <= b[0] + FIT and t[1] <= b[1] + FIT and t[2] + b[2] <= MAX_HEIGHT
+        return t[0] <= b[0] + FIT and t[1] <= b[1] + FIT and \
+            t[2] + high(bottom(base)) <= MAX_HEIGHT
 
     later = {n: picked.index(n) if n in picked else len(picked) for n in objects}
     pairs = [(t, b) for t in picked for b in objects if later[t] < later[b] and fits(t, b)]
@@ -134,6 +144,16 @@ def _add_stacks(rng: np.random.Generator, stacks: dict, picked: list[str], objec
         if not pairs:
             return
         t, b = pairs[int(rng.integers(len(pairs)))]
+        stacks[t] = b
+    # drawn from a generator of its own: the drafts whose stacks do not grow stay as they were
+    own = np.random.default_rng(zlib.crc32(repr(sorted(stacks.items())).encode()))
+    while stacks and own.random() < 1 / 3:
+        tops = [n for n in stacks if n not in stacks.values()]
+        grow = [(t, b) for t in picked for b in tops if later[t] < later[b] and fits(t, b)
+                and t not in set(stacks) | set(stacks.values())]
+        if not grow:
+            return
+        t, b = grow[int(own.integers(len(grow)))]
         stacks[t] = b
 
 
