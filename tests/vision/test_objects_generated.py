@@ -61,6 +61,8 @@ ROWS = [
     # block's own top (`python -m bench.bench_objects --count 144 --seed 3000 --families all`)
     (3119, "teach", "4x", 6, "the middle cube's ring sliver completed as a tile", "rearrange"),
     (3022, "teach", "4x", None, "a stack's block read 11.6 mm off", "stacked-start"),
+    (1012, "execute", "nominal", 6, "three cubes stacked: the lower two named a brick",
+     "stacked-start"),
 ]
 
 
