@@ -63,6 +63,10 @@ ROWS = [
     (3022, "teach", "4x", None, "a stack's block read 11.6 mm off", "stacked-start"),
     (1012, "execute", "nominal", 6, "three cubes stacked: the lower two named a brick",
      "stacked-start"),
+    (1093, "teach", "nominal", 7, "a brick and a cube on a beam: brick 71 mm, beam lost",
+     "stacked-start"),
+    (1022, "execute", "nominal", 7, "two cubes on a beam: one 60 mm cube, beam lost",
+     "stacked-start"),
 ]
 
 

@@ -137,6 +137,13 @@ class ObjectFinder(VFD):
         split: dict[int, list[FoundObject]] = {}
         for k, (rim, parts) in rims.split_rims(boxes, framing, 0.6 * smallest,
                                                set(rings)).items():
+            low = min((boxes[p][0] for p in parts if p in measured), default=None)
+            if low is not None and rims.room_between(boxes[k], low, thinnest, shapes):
+                # the lowest block of three or more, its top measured where a piece
+                # shows from the side (a brick and a cube on a beam, stacked-start 1093)
+                boxes[parts[0]] = (low, self.footprint(rim, low), rim)
+                framing |= set(parts[1:])
+                continue
             single, base = column(k)
             stack = self._hidden_stack(single, base, boxes[k][1][1], side_img, shapes, rim,
                                        boxes[k][2], better=True)

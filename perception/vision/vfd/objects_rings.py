@@ -55,7 +55,7 @@ def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0,
     bench seed 2033: the merged rings came out at 106 mm under the tile's 110 mm).
     An L or a U is a rim of the block under the upper face only if no block of the
     database (``shapes``) fits between them: else it is the top face of a lower block,
-    with blocks hidden between (``_room_between``).
+    with blocks hidden between (``room_between``).
     """
     parts: dict[int, list[tuple]] = {}
     # A face framing a lower one is measured too high: a box there would hide the lower
@@ -70,13 +70,13 @@ def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0,
             framed = frames(outer, inner) and h_out >= h_in - max(3.0, thinnest - 3.0)
             partial = not frames(outer, inner) and area_of(outer) > area_of(inner) and \
                 holds_centre(outer, inner) and h_out < h_in + 3.0 and \
-                not _room_between(boxes[j], h_out, thinnest, shapes)
+                not room_between(boxes[j], h_out, thinnest, shapes)
             if sliver or framed or partial:
                 parts.setdefault(j, []).append(outer)
     return {j: _union(*p) if len(p) > 1 else p[0] for j, p in parts.items()}
 
 
-def _room_between(upper: Box, low: float, thinnest: float,
+def room_between(upper: Box, low: float, thinnest: float,
                   shapes: Mapping[str, Sequence[float]] | None) -> bool:
     """Whether a block of the database fits between height ``low`` and the bottom of
     ``upper`` read as the tallest shape its footprint may be: three cubes on a slab near
