@@ -64,6 +64,12 @@ CASES = {
     # lifted the slat; the pick was named after the slat, the motion before it after the
     # knob (lbw_engine/see/actmodel.py _rename)
     "class5-knob-rides-on-the-slat": "knob-rides-on-the-slat.yaml",
+    # class 2 (helper round 7, u09 and u21): a step of a staircase put on a row whose
+    # cubes are 2 mm apart was read as put on its neighbours too: the :Near search grows
+    # the held block by a margin; set down, it shares nothing with them
+    # (perception/vision/envnodes/placement.py beside_target)
+    "class2-staircase-on-a-row-2mm-apart-x": "staircase-x-gap2.yaml",
+    "class2-staircase-on-a-row-2mm-apart-y-noisy": "staircase-y-gap2-noisy.yaml",
 }
 
 

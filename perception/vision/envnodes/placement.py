@@ -31,6 +31,7 @@ from perception.vision.vfd.change import ChangeDetector, Snapshot
 FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
 EXTENT_SLACK_MM = 4.0  # the side view's changed columns span the placed block's length
 MIN_SEEN = 0.2  # a block less visible than this from the side is not placed by what shows
+NEIGHBOUR_MM = 1.0  # a target the set-down footprint shares less than this with is beside it
 LEVEL_MM = 12.0  # tops this close are one level (a support is never thinner than 10 mm)
 
 
@@ -129,8 +130,8 @@ def placed_x(det: ChangeDetector, cameras: Mapping[str, Camera], changed: float,
 def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float],
                   size: Sequence[float], bottom: float, moving: set[str]) -> tuple[str, ...]:
     """What a block set down at ``xy`` with its bottom at ``bottom`` rests on, when its
-    footprint plainly misses every one of the motion's ``targets``; () when one of them is
-    under it (the :Near search's choice stands).
+    footprint plainly misses some of the motion's ``targets``: those it meets, or what is
+    under it when it misses all; () when it meets all (the :Near search's choice stands).
 
     The search at :Near takes what lies under the held block then, grown by a margin: a
     brick set down 2 mm north of another along y was put "on" it (helper round 4, v24b),
@@ -140,8 +141,14 @@ def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float]
     def under(n: EnvNode) -> bool:  # footprints sharing SUPPORT_OVERLAP_MM (3 mm) both ways
         return footprints_meet(xy, size, n.position, n.size)
 
-    if not targets or any(under(n) for n in targets):
+    if not targets:
         return ()
+    # Grown by its margin, the held block also reaches a neighbour a few mm beside its
+    # support (a staircase on a row with 2 mm gaps, helper round 7's u09 and u21: a step
+    # put on b was read as put on a, b and c). Set down, it shares nothing with it.
+    meet = [n for n in targets if footprints_meet(xy, size, n.position, n.size, NEIGHBOUR_MM)]
+    if meet:
+        return tuple(n.name for n in meet) if len(meet) < len(targets) else ()
     below = [n for n in env.objects() if n.name not in moving and n.position is not None
              and n.size is not None and under(n) and n.top() <= bottom + LEVEL_MM]
     if not below:
