@@ -175,14 +175,17 @@ def test_a_block_tipped_onto_its_side_ends_the_run_naming_it(tmp_path, capsys):
     assert report["ground_truth_toppled"]  # the simulator agrees it fell
 
 
-@pytest.mark.parametrize("name", ["tiny-row-y-gap6", "small-row-13mm"])
+@pytest.mark.parametrize("name", ["tiny-row-y-gap6", "small-row-13mm", "tiny-row-x-gap6"])
 def test_a_small_block_set_down_by_the_robot_is_seen_placed(tmp_path, capsys, name):
     """Helper round 5 (t10): 16 mm cubes in a row along y. The robot lowers a block slowly,
     so the landing box already shows it at the first snapshot, and the holder window
     held 0.2 of block pixels where HOLDING asks 0.6: the place was missed, two false
     detections followed and the cube was picked and placed again. A held block shows
     in the window as much as its size lets it (HandState.held_fill). lbw bench seed 1012
-    (nominal, 13 mm cubes in a row along y): 0.12 of the window, four detections."""
+    (nominal, 13 mm cubes in a row along y): 0.12 of the window, four detections. Helper
+    round 7 (u24): along x the jaws close across y, and a finger hides the cube from the
+    side, from start to release: nothing between the fingers, and nothing seen to appear
+    where the hand had been (change.py ``revealed``)."""
     code, report, err = execute(tmp_path, name, DATA / f"{name}.yaml", capsys)
     assert code == 0, err
     assert report["monitor"]["detections"] == [] and report["monitor"]["repairs"] == []

@@ -1,12 +1,11 @@
 """The change-detector ENV-node: SilDiff, what changed in a motion's target region.
 
 At a motion's start and end the change-detector takes snapshots of the region
-Fig. 6(3) prescribes (the target block with an empty hand; the place just
-above the target, sized like the held object, with a full one) and judges them
-by image subtraction and area thresholding (Sec. III-D1): ``appeared``,
-``vanished`` or ``nochange``, with the centre of the change. Regions come from
-the environment model and the tracked hand; pixels only from the current frame
-through the detector's windows (docs/seeing.md).
+Fig. 6(3) prescribes (the target block with an empty hand; the place just above
+the target, sized like the held object, with a full one) and judges them by
+image subtraction and area thresholding (Sec. III-D1): ``appeared``, ``vanished``
+or ``nochange``, with the centre of the change. Regions come from the environment
+model and the tracked hand; pixels only from the current frame (docs/seeing.md).
 """
 
 from __future__ import annotations
@@ -22,9 +21,13 @@ from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
 from perception.vision.envnodes.placement import (
+    KNOWN_MM,
     beside_target,
+    boxes_but,
+    known_boxes,
     placed_x,
     side_extent_x,
+    targets_of,
     unhidden_x,
 )
 from perception.vision.vfd.base import (
@@ -45,12 +48,12 @@ from perception.vision.vfd.change import (
     NO_CHANGE,
     ChangeDetector,
     Snapshot,
+    revealed,
     shade_change,
 )
 
 PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, align slide)
 PICK_MARGIN_MM = 8.0
-KNOWN_MM = 3.0  # a known object's outline grown by the model's error (unknown_top)
 HOLDING, EMPTY = 0.6, 0.1  # block fraction of the holder window: an object held / none
 HOLD_SHARE = 0.35  # of the share a held block's image covers: a small block held (held_fill)
 # (a grasped block fills it, 0.9-1; after a touch a block below can show in it, ~0.3)
@@ -122,9 +125,8 @@ class ChangeNode(EnvNodeBase):
         """``shot`` with the outline of the block the hand carries in it (grown by LOAD_MM).
 
         The load hangs in a place's region (a tall block above its spot, a hand coming in
-        slanted): the pixels it covers now can only be left by the load itself, never by
-        a block that vanished; a block set down behind another shows little, and the
-        load's leaving pixels would outvote it."""
+        slanted): the pixels it covers now can only be left by the load itself, never by a
+        block that vanished; a block set down behind another shows little and would lose."""
         load = held.grown(LOAD_MM)
         return replace(shot, load={v: region_mask(self.sight.cameras[v], load, w)
                                    for v, (w,) in self.detector.windows.items()})
@@ -183,6 +185,10 @@ class ChangeNode(EnvNodeBase):
                 # it from the side: a 12 mm cube set behind a tower, helper round 4, s09);
                 # there, not at the release point (a block dropped on the way lands short)
                 result, top = APPEARED, seen[1]
+            elif act.special and emptied and revealed(self.sight.cameras["side"],
+                                                      det.windows["side"][0], shot, last,
+                                                      first["size"], known_boxes(env)):
+                result = APPEARED  # the finger that hid it has let it go
             elif (not act.special and first.get("empty", before) <= EMPTY and after >= HOLDING
                   and not self.still_there(act, env, shot, last)):
                 result = DISAPPEARED
@@ -205,11 +211,11 @@ class ChangeNode(EnvNodeBase):
             if pos is not None and held and held[0].size is not None and released is not None:
                 x = placed_x(det, self.sight.cameras, x, float(released[1].center[0]),
                              (float(rel[1]), z), held[0].size, last,
-                             _boxes_but(env, {held[0].name} | set(env.held())))
+                             boxes_but(env, {held[0].name} | set(env.held())))
             pos = np.array([x, rel[1], z])
             if held and held[0].size is not None and released is not None:
                 moving = {held[0].name, *env.supported_by(held[0].name), *env.held()}
-                found = beside_target(env, _targets(act, env), pos, held[0].size,
+                found = beside_target(env, targets_of(act, env), pos, held[0].size,
                                       float(released[1].lo[2]), moving)
         if result == DISAPPEARED and not act.special:
             found = self.lifted(act, env)
@@ -225,7 +231,7 @@ class ChangeNode(EnvNodeBase):
         its place too, that one was picked, and so on down. If the target is plainly still
         there, the one block resting on it that is plainly gone was.
         """
-        targets = _targets(act, env)
+        targets = targets_of(act, env)
         if len(targets) != 1:
             return ()
         node, taken = targets[0], None
@@ -258,7 +264,7 @@ class ChangeNode(EnvNodeBase):
         ``own`` and the held ones hide what they cover."""
         self.detector.attention(region)
         shot = self.detector.take(self.sight.frame)
-        others = _boxes_but(env, own | set(env.held()))
+        others = boxes_but(env, own | set(env.held()))
         verdicts = set()
         for view, (window,) in self.detector.windows.items():
             cam, img = self.sight.cameras[view], shot.pixels[view]
@@ -292,7 +298,7 @@ class ChangeNode(EnvNodeBase):
         window = tracker.holder.window
         own = set(env.held()) | {n.name for n in env.get(act.target)}
         sub = window.read(frame.view("side"))
-        clear = ~regions_mask(self.sight.cameras["side"], _boxes_but(env, own), window)
+        clear = ~regions_mask(self.sight.cameras["side"], boxes_but(env, own), window)
         if clear.sum() < HOLDER_CLEAR * clear.size:
             return tracker.holding_evidence
         return float(((sub >= BLOCK_MIN) & clear).sum()) / float(clear.sum())
@@ -307,8 +313,8 @@ class ChangeNode(EnvNodeBase):
         support below it) or the hand covers it proves nothing: a block there looks the same
         whether the target left or not.
         """
-        targets = _targets(act, env)
-        others = _boxes_but(env, {n.name for n in targets} | set(env.held()))
+        targets = targets_of(act, env)
+        others = boxes_but(env, {n.name for n in targets} | set(env.held()))
         for view, (window,) in self.detector.windows.items():
             cam = self.sight.cameras[view]
             a, b = first.pixels[view], last.pixels[view]
@@ -329,8 +335,7 @@ class ChangeNode(EnvNodeBase):
         plane at the region's centre height)."""
         (window,) = self.detector.windows["top"]
         img, cam = last.pixels["top"], self.sight.cameras["top"]
-        known = [b.grown(KNOWN_MM)
-                 for b in _boxes_but(env, set(env.held())) + ([load[1]] if load else [])]
+        known = known_boxes(env) + ([load[1].grown(KNOWN_MM)] if load else [])
         new = (img >= BLOCK_MIN) & ~band(img, *HAND_BAND) & ~regions_mask(cam, known, window)
         c = centroid(new)
         if c is None:
@@ -340,19 +345,17 @@ class ChangeNode(EnvNodeBase):
             np.asarray(cam.point_on_plane_z(uv, float(last.region.center[2])), float)
 
     def in_front(self, act: ActView, env: EnvModel) -> list[Region3D]:
-        """Boxes of the other known objects standing between the side camera and the
-        motion's target (nearer along y, which the side camera looks along)."""
-        targets = _targets(act, env)
+        """Boxes of other known objects between the side camera and the motion's target."""
+        targets = targets_of(act, env)
         if not targets:
             return []
         return self.nearer(min(box(n).lo[1] for n in targets), env,
                            {n.name for n in targets})
 
     @staticmethod
-    def nearer(depth: float, env: EnvModel, but: frozenset[str] | set[str] = frozenset()
-               ) -> list[Region3D]:
+    def nearer(depth: float, env: EnvModel, but: frozenset | set = frozenset()) -> list[Region3D]:
         """Boxes of known objects (not ``but``, not held) nearer the side camera than y=depth."""
-        return [b for b in _boxes_but(env, set(but) | set(env.held())) if b.hi[1] <= depth]
+        return [b for b in boxes_but(env, set(but) | set(env.held())) if b.hi[1] <= depth]
 
     def threshold(self, shot: Snapshot, size: Sequence[float], place: bool = False,
                   front: Sequence[Region3D] = ()) -> float:
@@ -386,15 +389,3 @@ class ChangeNode(EnvNodeBase):
             if total:
                 share *= max(MIN_CHANGE_PX, int((outline & ~hidden).sum())) / total
         return float(min(AREA_THRESHOLD, share / 3.0))
-
-
-def _targets(act: ActView, env: EnvModel) -> list[EnvNode]:
-    """The motion's target blocks whose box the environment model knows."""
-    return [n for n in env.get(act.target) if n.kind == "Loc" and n.position is not None
-            and n.size is not None]
-
-
-def _boxes_but(env: EnvModel, names: set[str]) -> list[Region3D]:
-    """Boxes of the located objects not named in ``names``."""
-    return [box(n) for n in env.objects() if n.name not in names and n.position is not None
-            and n.size is not None]

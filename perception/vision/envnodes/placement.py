@@ -1,4 +1,5 @@
-"""Where a placed block stands along x, from the change-detector's last judgement.
+"""Where a placed block stands along x, from the change-detector's last judgement; the
+known boxes it is judged against.
 
 Helpers of ``perception.vision.envnodes.change`` (the SilDiff ENV-node): the side
 camera fixes x of a place well, but the changed area's centre carries biases that
@@ -15,7 +16,9 @@ import numpy as np
 from lbw_engine.model.env import EnvModel, EnvNode
 from lbw_engine.model.geometry import footprints_meet
 from lbw_engine.names import TABLE
+from lbw_engine.see.detectors import ActView
 from perception.vision.camera import Camera
+from perception.vision.envnodes.hand import box
 from perception.vision.vfd.base import (
     BLOCK_MIN,
     Region3D,
@@ -30,6 +33,7 @@ from perception.vision.vfd.change import ChangeDetector, Snapshot
 # fraction FIT_MARGIN higher to win (see placed_x).
 FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
 EXTENT_SLACK_MM = 4.0  # the side view's changed columns span the placed block's length
+KNOWN_MM = 3.0  # a known object's outline grown by the model's error (unknown_top)
 MIN_SEEN = 0.2  # a block less visible than this from the side is not placed by what shows
 NEIGHBOUR_MM = 1.0  # a target the set-down footprint shares less than this with is beside it
 LEVEL_MM = 12.0  # tops this close are one level (a support is never thinner than 10 mm)
@@ -155,3 +159,20 @@ def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float]
         return (TABLE,)
     level = max(n.top() for n in below)
     return tuple(n.name for n in below if n.top() >= level - LEVEL_MM)
+
+
+def targets_of(act: ActView, env: EnvModel) -> list[EnvNode]:
+    """The motion's target blocks whose box the environment model knows."""
+    return [n for n in env.get(act.target) if n.kind == "Loc" and n.position is not None
+            and n.size is not None]
+
+
+def known_boxes(env: EnvModel) -> list[Region3D]:
+    """Boxes of the located objects not held, grown by the model's error (KNOWN_MM)."""
+    return [b.grown(KNOWN_MM) for b in boxes_but(env, set(env.held()))]
+
+
+def boxes_but(env: EnvModel, names: set[str]) -> list[Region3D]:
+    """Boxes of the located objects not named in ``names``."""
+    return [box(n) for n in env.objects() if n.name not in names and n.position is not None
+            and n.size is not None]
