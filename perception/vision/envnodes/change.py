@@ -170,9 +170,14 @@ class ChangeNode(EnvNodeBase):
             # pixels, which can only add block pixels to an empty window (``unexplained``).
             before, after = first["hold"], self.hand.tracker.holding_evidence
             emptied = self.unexplained(act, env) <= EMPTY and not kept
-            # a small block held fills only part of the window (HandState.held_fill)
-            held = HOLDING if load is None else \
-                min(HOLDING, max(EMPTY, HOLD_SHARE * self.hand.held_fill(load[1])))
+            # a small block held fills only part of the window (HandState.held_fill); one
+            # picked hangs about where the hand is (a 10 mm disk lifted off a lintel showed
+            # 0.39 of it: helper round 7, u43, where the monitor then undid a set-aside)
+            targets = targets_of(act, env)
+            lift = None if act.special or not targets or self.hand.hand is None else \
+                Region3D.around(self.hand.hand, targets[0].size)
+            held = HOLDING if load is None and lift is None else min(HOLDING, max(
+                EMPTY, HOLD_SHARE * self.hand.held_fill(load[1] if load else lift)))
             if act.special and before > EMPTY and before >= held and emptied:
                 result = APPEARED
             elif act.special and emptied and \
@@ -189,7 +194,7 @@ class ChangeNode(EnvNodeBase):
                                                       det.windows["side"][0], shot, last,
                                                       first["size"], known_boxes(env)):
                 result = APPEARED  # the finger that hid it has let it go
-            elif (not act.special and first.get("empty", before) <= EMPTY and after >= HOLDING
+            elif (not act.special and first.get("empty", before) <= EMPTY and after >= held
                   and not self.still_there(act, env, shot, last)):
                 result = DISAPPEARED
         let_go, found = self.hand.let_go(act.since), ()
