@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import copy
 import math
+import re
 from collections import Counter
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -138,6 +139,7 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
             log, model = robot.log, tr.model
     except TaskFailed as exc:
         stopped = _stopped_verdict(planned, robot, eyes, world, sc, shape_of, rules)
+        exc = TaskFailed(authors_names(str(exc), matching, measured, sc, shape_of))
         report.update(stage="execution", failure=f"execution: {exc}", mismatches=[],
                       faults=injector.injected, faults_not_injected=injector.missed(),
                       ground_truth_toppled=_toppled(world), verification=stopped)
@@ -174,6 +176,31 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     title = f"plan {plan.root} in {sc.name}"
     return ExecutionResult(verdict.success, msg, format_commands(tr, title), report, tr, views,
                            None if verdict.success else "verification")
+
+
+AUTHOR_MM = 15.0  # a measured block this near an execute object's given centre is it
+
+
+def authors_names(text: str, matching: Any, measured: Sequence[Any], sc: Any,
+                  shape_of: Mapping[str, str]) -> str:
+    """``text`` with each quoted plan object followed by the name the scenario's author gave
+    it in execute.objects, where the block the cameras matched it to first stood at that
+    object's given centre, with its shape (helper round 7: "remove q2" was reported as
+    "'p1' is gone"). The system matches by shape; the names only help the author read."""
+    def author(name: str) -> str | None:
+        if name not in matching.assigned:
+            return None
+        at = measured[matching.assigned[name]].position
+        near = [(math.dist(at, o.center), o.name) for o in sc.execute.objects.values()
+                if o.shape == shape_of.get(name)]
+        d, own = min(near, default=(math.inf, None))
+        return own if d <= AUTHOR_MM and own != name else None
+
+    def named(m: re.Match) -> str:
+        own = author(m.group(1))
+        return m.group(0) if own is None else f"{m.group(0)} (execute.objects '{own}')"
+
+    return re.sub(r"'([a-z][a-z0-9_:-]*)'", named, text)
 
 
 def fault_notes(report: dict[str, Any]) -> list[str]:

@@ -93,8 +93,9 @@ def test_a_removed_object_without_a_spare_ends_the_run_naming_it(tmp_path, capsy
     code, report, err = execute(tmp_path, "unstack", path, capsys)
     assert code == 1
     assert report["success"] is False
-    assert report["failure"] == ("execution: 'top1' (shape brick) is gone and the workspace "
-                                 "has no spare brick to replace it")
+    # the plan's name, and the one the scenario's author gave the block removed
+    assert report["failure"] == ("execution: 'top1' (execute.objects 't') (shape brick) is "
+                                 "gone and the workspace has no spare brick to replace it")
     assert [d["object"] for d in report["monitor"]["detections"]] == ["top1"]
     assert report["monitor"]["repairs"] == []
     assert "top1" in err
@@ -174,7 +175,8 @@ def test_a_block_tipped_onto_its_side_ends_the_run_naming_it(tmp_path, capsys):
     name = "oblong-dropped-tips-over"
     code, report, err = execute(tmp_path, name, DATA / f"{name}.yaml", capsys)
     assert code == 1, err
-    assert report["failure"].startswith("execution: 'o1' lies on its side")
+    assert report["failure"].startswith("execution: 'o1' (execute.objects 'p2') lies on its "
+                                        "side")
     assert "cannot stand it up" in report["failure"]
     assert report["ground_truth_toppled"]  # the simulator agrees it fell
 
