@@ -35,6 +35,8 @@ FIT_SLACK_MM, FIT_MARGIN = 10.0, 0.05
 EXTENT_SLACK_MM = 4.0  # the side view's changed columns span the placed block's length
 KNOWN_MM = 3.0  # a known object's outline grown by the model's error (unknown_top)
 MIN_SEEN = 0.2  # a block less visible than this from the side is not placed by what shows
+CO_SUPPORT_SHARE = 0.25  # of its side a block set down shares with a co-support it was not
+CO_LEVEL_MM = 5.0  # coming over; whose top is this level with its support's
 NEIGHBOUR_MM = 1.0  # a target the set-down footprint shares less than this with is beside it
 LEVEL_MM = 12.0  # tops this close are one level (a support is never thinner than 10 mm)
 
@@ -134,8 +136,9 @@ def placed_x(det: ChangeDetector, cameras: Mapping[str, Camera], changed: float,
 def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float],
                   size: Sequence[float], bottom: float, moving: set[str]) -> tuple[str, ...]:
     """What a block set down at ``xy`` with its bottom at ``bottom`` rests on, when its
-    footprint plainly misses some of the motion's ``targets``: those it meets, or what is
-    under it when it misses all; () when it meets all (the :Near search's choice stands).
+    footprint plainly misses some of the motion's ``targets`` (those it meets, or what is
+    under it when it misses all) or plainly rests on a block of their level too; () when
+    it meets them all and no other (the :Near search's choice stands).
 
     The search at :Near takes what lies under the held block then, grown by a margin: a
     brick set down 2 mm north of another along y was put "on" it (helper round 4, v24b),
@@ -152,13 +155,30 @@ def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float]
     # put on b was read as put on a, b and c). Set down, it shares nothing with it.
     meet = [n for n in targets if footprints_meet(xy, size, n.position, n.size, NEIGHBOUR_MM)]
     if meet:
-        return tuple(n.name for n in meet) if len(meet) < len(targets) else ()
+        # and the other way: coming in over one cube of a pyramid's row, the hand had the
+        # search name that one alone; set down across it and the next, the block shares a
+        # quarter of its side with each (lbw bench 1144, a pyramid along y)
+        top, skip = max(n.top() for n in meet), {n.name for n in targets} | moving
+        more = [n for n in env.objects() if n.name not in skip and n.position is not None
+                and n.size is not None and abs(n.top() - top) <= CO_LEVEL_MM
+                and _shares(xy, size, n.position, n.size, CO_SUPPORT_SHARE)]
+        if len(meet) < len(targets) or more:
+            return tuple(n.name for n in meet + more)
+        return ()
     below = [n for n in env.objects() if n.name not in moving and n.position is not None
              and n.size is not None and under(n) and n.top() <= bottom + LEVEL_MM]
     if not below:
         return (TABLE,)
     level = max(n.top() for n in below)
     return tuple(n.name for n in below if n.top() >= level - LEVEL_MM)
+
+
+def _shares(c1: Sequence[float], s1: Sequence[float], c2: Sequence[float],
+            s2: Sequence[float], share: float) -> bool:
+    """Whether two footprints overlap by ``share`` of the narrower one along x and y."""
+    return all(min(c1[k] + s1[k] / 2, c2[k] + s2[k] / 2) - max(c1[k] - s1[k] / 2,
+                                                                 c2[k] - s2[k] / 2)
+               >= share * min(s1[k], s2[k]) for k in (0, 1))
 
 
 def targets_of(act: ActView, env: EnvModel) -> list[EnvNode]:
