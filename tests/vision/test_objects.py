@@ -455,3 +455,21 @@ def test_two_cubes_on_a_slab_in_front_of_the_side_camera(x):
         Film(seed=4).shoot([b for _, b in truth]), shapes)
     assert sorted(f.shape for f in found) == ["cube", "cube", "slab"], found
     _each_near(found, truth, 5.0)
+
+
+@pytest.mark.parametrize(("low", "behind"), [((30, 30, 50), 78), ((40, 40, 40), 70)],
+                         ids=["brick-behind-two-bricks", "cube-behind-two-cubes"])
+def test_a_block_behind_a_taller_stack_has_its_own_height(low, behind):
+    """The side camera cannot see a block standing behind a stack twice its height: its
+    top face, lifted to any height that keeps it hidden, lands on the stack's image. It
+    was paired with the stack's own top face, 75 mm high, and split into two bricks
+    (generated stacked-start 1176), or its column stopped at the stack's top edge, 61 mm
+    (1030). It takes the height of the shape its footprint names
+    (``objects_hidden.unseen_heights``)."""
+    shapes = {"low": low}
+    truth = [("low", block(30, 193, low)), ("low", block(30, 193, low, low[2])),
+             ("low", block(32, 193 + behind, low))]
+    found = ObjectFinder(CAMS, VisionResources()).find(
+        Film(noise=2.0, seed=5).shoot([b for _, b in truth]), shapes)
+    assert len(found) == 3, found
+    _each_near(found, truth, 5.0)

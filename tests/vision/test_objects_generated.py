@@ -67,6 +67,12 @@ ROWS = [
      "stacked-start"),
     (1022, "execute", "nominal", 7, "two cubes on a beam: one 60 mm cube, beam lost",
      "stacked-start"),
+    # a block hidden from the side camera behind a taller stack takes its shape's height
+    (1176, "teach", "4x", 5, "a brick behind two: paired with their top, split in two",
+     "stacked-start"),
+    (1030, "execute", "nominal", 4, "a cube behind a stack of two read 61 mm tall",
+     "stacked-start"),
+    (3106, "teach", "nominal", None, "a block behind a stack 9 mm off", "stacked-start"),
 ]
 
 

@@ -24,6 +24,7 @@ from perception.vision.vfd import objects_rings as rims
 from perception.vision.vfd import objects_seams as seams
 from perception.vision.vfd.base import DARK_MAX, VFD
 from perception.vision.vfd.objects_columns import Columns
+from perception.vision.vfd.objects_hidden import unseen_heights
 from perception.vision.vfd.objects_match import SilhouetteCheck, assign, frames, nearest
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
@@ -108,6 +109,8 @@ class ObjectFinder(VFD):
             if k in pairing and pairing[k][1] >= MIN_SCORE:
                 measured.add(len(boxes))
             boxes.append((height, self.footprint(rect, height), rect))
+        boxes = unseen_heights(boxes, self.cameras["side"], self.cameras["side"].size,
+                               self.footprint, shapes)
         thinnest = min((float(v[2]) for v in shapes.values()), default=0.0)
         boxes = seams.seat_rims(boxes, self.cameras["side"], side_img, self.footprint, thinnest,
                                0.6 * smallest, measured)
