@@ -213,3 +213,26 @@ def test_which_blocks_on_the_table_have_tipped(position, size, want, tipped):
     from lbw_engine.pipeline.monitor import _tipped
 
     assert _tipped(position, size, want) is tipped
+
+
+# (bench seed, level, family, detections at most, what the robot watch missed)
+QUIET_RUNS = [
+    (1192, "nominal", "small", 0, "a 19 mm cube set down at the table's corner, tracked 4 mm "
+     "low: its bottom below the table top left the search no region, so no arrival"),
+    (1264, "nominal", "small", 2, "a 10 mm cube picked from before a crate's faces changed "
+     "their shades only: the redo of its place was read as a NO-OP too (4 before)"),
+]
+
+
+@pytest.mark.parametrize(("seed", "level", "family", "most", "why"), QUIET_RUNS,
+                         ids=[f"{r[0]}-{r[1]}-{r[2]}" for r in QUIET_RUNS])
+@pytest.mark.heavy
+def test_fault_free_bench_runs_raise_no_false_detection(seed, level, family, most, why):
+    """`lbw bench --count 300 --seed 1` runs with no fault injected: the monitor must not
+    see the robot do other than it did (perception/vision/envnodes/search.py regions,
+    change.py shade_change for picks)."""
+    from lbw_engine.cli.bench import run_one
+
+    record = run_one((seed, level, family, None))
+    assert record["execution_success"], record
+    assert record["monitor_detections"] <= most, why

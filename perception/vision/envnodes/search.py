@@ -127,7 +127,10 @@ class SearchNode(EnvNodeBase):
         # few cm, so a step is at least the empty hand's region height (docs/seeing.md).
         step = max(float(start.size[2]), self.default[2])
         lo = float(start.lo[2])
-        cycles = min(max(0, math.ceil(lo / step)), self.limit)
+        # a held block seen at or below the table top (the tracked hand a few mm low) still
+        # has the region under it, which reaches the table (lbw bench 1192: the robot set a
+        # 19 mm cube down at the table's corner, 4 mm lower than tracked, with no arrival)
+        cycles = min(max(first, math.ceil(lo / step)), self.limit)
         out = []
         for k in range(first, cycles + 1):
             top = lo - (k - 1) * step if k else float(start.hi[2])
