@@ -16,8 +16,8 @@ from typing import Any
 import cv2
 import numpy as np
 
+from lbw_engine.model.geometry import footprints_meet
 from perception.vision.vfd.objects import FoundObject
-from perception.vision.vfd.objects_match import footprints_meet
 from perception.vision.vfd.objects_pieces import box_rect
 
 SIZE_MM = 8.0  # a face's footprint this near the block's shape
@@ -108,7 +108,7 @@ def part_seen(c: Sequence[float], size: Sequence[float],
 def _covered(c: Sequence[float], size: Sequence[float],
              others: Sequence[tuple[Sequence[float], Sequence[float]]]) -> bool:
     """Whether any of ``others`` (centre, size) stands higher over this block's footprint."""
-    return any(oc[2] > c[2] and footprints_meet(oc, os, c, size) for oc, os in others)
+    return any(oc[2] > c[2] and footprints_meet(oc, os, c, size, tol=0.0) for oc, os in others)
 
 
 def face_seen(c: Sequence[float], size: Sequence[float], check: Any) -> bool:

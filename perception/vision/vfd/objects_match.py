@@ -107,13 +107,6 @@ def frames(outer, inner, tol: float = 1.5) -> bool:
             area > (inner[2] - inner[0]) * (inner[3] - inner[1]))
 
 
-def footprints_meet(ca: Sequence[float], sa: Sequence[float], cb: Sequence[float],
-                    sb: Sequence[float], margin: float = 0.0) -> bool:
-    """Whether two boxes (centre, size; mm) overlap in x and y, or come within ``margin``:
-    one may rest on, or over, the other."""
-    return all(abs(ca[k] - cb[k]) < (sa[k] + sb[k]) / 2.0 + margin for k in (0, 1))
-
-
 def nearest(shapes: Mapping[str, Sequence[float]], size: np.ndarray) -> tuple[str, float]:
     """The database shape whose size is closest to ``size`` (summed absolute error)."""
     if not shapes:

@@ -11,9 +11,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from lbw_engine.model.geometry import footprints_meet
 from perception.vision.camera import Camera
 from perception.vision.vfd.objects import FoundObject
-from perception.vision.vfd.objects_match import footprints_meet
 
 GATE_MM = 15.0  # a top face this near an expected block's (in x, y) may be that block
 SIZE_MM = 8.0  # and its footprint this near the block's shape
@@ -65,7 +65,8 @@ def with_columns_under(boxes: list, parts: list[int], named: dict[str, int]) -> 
                 continue
             top = b.position[2] + b.size[2] / 2.0
             if any(abs(boxes[j].position[2] - boxes[j].size[2] / 2.0 - top) <= SIZE_MM
-                   and footprints_meet(boxes[j].position, boxes[j].size, b.position, b.size)
+                   and footprints_meet(boxes[j].position, boxes[j].size, b.position,
+                                       b.size, tol=0.0)
                    for j in out):
                 out.append(i)
                 grew = True

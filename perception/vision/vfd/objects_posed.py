@@ -27,11 +27,11 @@ import cv2
 import networkx as nx
 import numpy as np
 
+from lbw_engine.model.geometry import footprints_meet
 from perception.vision.camera import Camera
 from perception.vision.vfd.base import DARK_MAX
 from perception.vision.vfd.objects import FoundObject, ObjectFinder
 from perception.vision.vfd.objects_faces import measure_tops, tops_unseen, uncovered_or_part_seen
-from perception.vision.vfd.objects_match import footprints_meet
 from perception.vision.vfd.objects_pieces import box_rect, pieces_of, reading_of, with_columns_under
 from perception.vision.vfd.resources import VisionResources
 
@@ -190,7 +190,8 @@ def _structures(expected: Mapping[str, Expected], cameras: Mapping[str, Camera]
 def _stacks(group: list[str], expected: Mapping[str, Expected]) -> list[list[str]]:
     """The group's blocks joined where their footprints overlap (one rests on, or over,
     the other), transitively: the stacks and bridges the group is made of."""
-    return _components(group, lambda a, b: footprints_meet(*expected[a][1:], *expected[b][1:]))
+    return _components(group, lambda a, b: footprints_meet(*expected[a][1:], *expected[b][1:],
+                                                           tol=0.0))
 
 
 def _components(names: Sequence[str], joined: Callable[[str, str], bool]) -> list[list[str]]:

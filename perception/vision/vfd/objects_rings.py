@@ -27,8 +27,9 @@ from typing import Any
 
 import numpy as np
 
+from lbw_engine.model.geometry import footprints_meet
 from perception.vision.vfd.base import DARK_MAX
-from perception.vision.vfd.objects_match import footprints_meet, frames, nearest
+from perception.vision.vfd.objects_match import frames, nearest
 
 RING_HIDDEN_MM = 6.0  # a top-face ring this thin (2 px from above) merges into its outline
 CREASE_MAX = 110  # crease lines are drawn at 60, faces at 170 and brighter
@@ -286,7 +287,7 @@ def consistent(found: list, shapes: Mapping[str, Sequence[float]], fits_mm: floa
     of the lowest block's ring stands on the table as that block does, its column as
     high: it is no higher than the block (bench 1071 at 4x, a 6 x 33 x 46 mm "cube")."""
     def over(f: Any, g: Any) -> bool:  # footprints meet, or nearly
-        return footprints_meet(f.position, f.size, g.position, g.size, RING_HIDDEN_MM)
+        return footprints_meet(f.position, f.size, g.position, g.size, tol=-RING_HIDDEN_MM)
 
     def top(f: Any) -> float:
         return f.position[2] + f.size[2] / 2.0
