@@ -19,6 +19,7 @@ This module also reads and checks ``execute.faults`` (strict, file:line errors).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -109,13 +110,14 @@ class FaultInjector:
         self.injected: list[dict] = []
         self._applied: set[int] = set()  # indices into ``faults``
         self._peak = 0.0
+        self._last: tuple[float, float, float] | None = None  # time, x, y of the gripper
         self._armed: Fault | None = None
         self._dropped: list[tuple[dict, str]] = []  # drop records and their bodies, in flight
 
     def begin(self, n: int) -> None:
         """The robot starts its ``n``-th ACHIEVE: arm a drop tied to it."""
         self.achieve = n
-        self._peak = 0.0
+        self._peak, self._last = 0.0, None
         self._armed = next((f for f in self.faults if f.kind == "drop" and f.when == n), None)
 
     def end(self, n: int) -> None:
@@ -147,9 +149,16 @@ class FaultInjector:
         for g in world.grippers:
             if g.kind != "arm" or g.holding is None:
                 continue
-            vx = abs(world.shapes[g.holding].body.velocity[0])
-            self._peak = max(self._peak, vx)
-            if self._peak >= PEAK_MIN and vx < 0.9 * self._peak:  # past the middle
+            # the carry's speed over the table, along x and y: the simulation's bodies move
+            # in x-z, the gripper carries them along y itself (a carry along y never made
+            # the body's x speed peak, and the drop never fired: helper round 8, v42, v61)
+            x, y, _ = g.position
+            last, self._last = self._last, (world.time, x, y)
+            if last is None or world.time <= last[0]:
+                continue
+            speed = math.hypot(x - last[1], y - last[2]) / (world.time - last[0])
+            self._peak = max(self._peak, speed)
+            if self._peak >= PEAK_MIN and speed < 0.9 * self._peak:  # past the middle
                 body = g.holding
                 g.open(g.opening + SLIP_MM)
                 self._armed = None

@@ -152,11 +152,18 @@ class _Flying:
         self.time, self.names, self.lands_at = 0.0, ["b"], lands_at
         self.body = NS(velocity=(0.0, 0.0))
         self.shapes = {"b": NS(body=self.body)}
-        self.grippers = [NS(kind="arm", holding="b", opening=40.0,
+        self.grippers = [NS(kind="arm", holding="b", opening=40.0, position=(0.0, 200.0, 150.0),
                             open=lambda width: setattr(self.grippers[0], "holding", None))]
 
     def positions(self):
         return {"b": self.lands_at}
+
+    def carry(self, speed, along=(1.0, 0.0), dt=0.1):
+        """One step of the carry at ``speed`` (mm/s) in direction ``along`` over the table."""
+        x, y, z = self.grippers[0].position
+        self.time += dt
+        self.grippers[0].position = (x + along[0] * speed * dt, y + along[1] * speed * dt, z)
+        self.body.velocity = (along[0] * speed, 0.0)
 
 
 @pytest.mark.parametrize("lands_at, off", [((-1700.0, 246.0, -1.2e5), True),
@@ -169,9 +176,28 @@ def test_a_drop_that_throws_the_block_off_the_table_is_recorded_so(lands_at, off
     world = _Flying(lands_at)
     inj = FaultInjector(world, (Fault("drop", 1, None),), {"b": "b"})
     inj.begin(1)
-    for vx in (100.0, 300.0, 500.0, 400.0):  # past the carry's peak speed: let go
-        world.body.velocity = (vx, 0.0)
+    for v in (100.0, 300.0, 500.0, 400.0):  # past the carry's peak speed: let go
+        world.carry(v)
         inj.on_step(world)
     assert [f["kind"] for f in inj.injected] == ["drop"]
     inj.end(1)
     assert inj.injected[0].get("off_table", False) is off
+
+
+@pytest.mark.parametrize("along", [(1.0, 0.0), (0.0, 1.0), (0.6, -0.8)],
+                         ids=["along-x", "along-y", "slanted"])
+def test_a_drop_fires_past_the_carry_peak_whichever_way_it_goes(along):
+    """Helper round 8 (v42, v61): the simulation's bodies move in x-z and the gripper
+    carries them along y itself, so a carry along y never made the body's x speed peak,
+    and the drop never fired ("the robot did not get that far"). The carry's speed over
+    the table is the gripper's, along x and y."""
+    world = _Flying((-120.0, 200.0, 25.0))
+    inj = FaultInjector(world, (Fault("drop", 1, None),), {"b": "b"})
+    inj.begin(1)
+    for v in (100.0, 300.0, 500.0):  # speeding up: held
+        world.carry(v, along)
+        inj.on_step(world)
+    assert inj.injected == []
+    world.carry(400.0, along)  # past the peak: let go
+    inj.on_step(world)
+    assert [f["kind"] for f in inj.injected] == ["drop"]
