@@ -70,6 +70,10 @@ CASES = {
     # (perception/vision/envnodes/placement.py beside_target)
     "class2-staircase-on-a-row-2mm-apart-x": "staircase-x-gap2.yaml",
     "class2-staircase-on-a-row-2mm-apart-y-noisy": "staircase-y-gap2-noisy.yaml",
+    # class 3 (helper round 8, v14): 10 mm cubes laid touching along x; the last one,
+    # measured 1.2 mm into its neighbour's footprint, was read as put on it, though it
+    # came down to the table, 10 mm under the neighbour's top (placement.py beside_target)
+    "class3-tiny-cubes-touching-along-x": "tiny-row-x-touching.yaml",
 }
 
 

@@ -37,6 +37,7 @@ KNOWN_MM = 3.0  # a known object's outline grown by the model's error (unknown_t
 MIN_SEEN = 0.2  # a block less visible than this from the side is not placed by what shows
 CO_SUPPORT_SHARE = 0.25  # of its side a block set down shares with a co-support it was not
 CO_LEVEL_MM = 5.0  # coming over; whose top is this level with its support's
+BESIDE_MM = 5.0  # a target whose top is this far above a set-down block's bottom is beside it
 NEIGHBOUR_MM = 1.0  # a target the set-down footprint shares less than this with is beside it
 LEVEL_MM = 12.0  # tops this close are one level (a support is never thinner than 10 mm)
 
@@ -153,7 +154,12 @@ def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float]
     # Grown by its margin, the held block also reaches a neighbour a few mm beside its
     # support (a staircase on a row with 2 mm gaps, helper round 7's u09 and u21: a step
     # put on b was read as put on a, b and c). Set down, it shares nothing with it.
-    meet = [n for n in targets if footprints_meet(xy, size, n.position, n.size, NEIGHBOUR_MM)]
+    # Nor is it on a target whose top stands above where it came down (10 mm cubes laid in
+    # a row touching, helper round 8's v14: 1.2 mm of a neighbour's footprint, measured,
+    # but the block's bottom at the table, 10 mm under the neighbour's top).
+    low = float(xy[2]) - float(size[2]) / 2.0 + BESIDE_MM if len(xy) > 2 else np.inf
+    meet = [n for n in targets if footprints_meet(xy, size, n.position, n.size, NEIGHBOUR_MM)
+            and n.top() <= low]
     if meet:
         # and the other way: coming in over one cube of a pyramid's row, the hand had the
         # search name that one alone; set down across it and the next, the block shares a
