@@ -24,7 +24,7 @@ from __future__ import annotations
 import bisect
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -46,6 +46,8 @@ ABSENT = 1.0  # s without the hand at the start and the end (initial/final state
 MAX_Z = 285.0  # mm: the hand stays within the cameras' view (z <= 300)
 HOVER = -0.1  # mm: a placed block is let go just touching (the contact slop), no drop
 QUIET = 0.1  # tremor scale during fine motions: the fingers do not shake blocks into others
+STEADY_RAMP_MM, STEADY_ABOVE_MM, BESIDE_MM = 20.0, 5.0, 15.0  # see _beside_top
+CLEAR, CLEAR_TREMOR = 0.5, 0.2  # mm (+ per mm of tremor) a block is let down from one beside it
 
 
 @dataclass(frozen=True)
@@ -62,6 +64,7 @@ class Segment:
     action: tuple = ()  # ("open", width) | ("close",) | ("present", bool) | ("turn", axis)
     quiet: bool = False  # tremor reduced (fine motions)
     lateral: str = ""  # "early": sideways part done first (approach), "late": last (depart)
+    steady: float = -math.inf  # hand z under which the approach shakes as little as fine motions
 
 
 def min_jerk(tau: float) -> float:
@@ -158,6 +161,7 @@ class _Planner:
         """Segments for the whole demonstration."""
         lay = self.sc.teach.layout()
         held_dz, held = 0.0, None
+        shifted: dict[str, Vec3] = {}  # where blocks were let down, when not their dest
         for i, step in enumerate(self.sc.demonstration):
             size = lay.size[step.obj]
             top = _scene_top(lay)
@@ -177,7 +181,11 @@ class _Planner:
                 held_dz = grasp_offset(size)
                 held = step.obj if step.kind == "pick" else held
             else:
-                grip = _add(step.dest, (0, 0, held_dz + HOVER))
+                dest = step.dest if step.align is not None else _clear_of_neighbours(
+                    lay, step.obj, step.dest, size, CLEAR + CLEAR_TREMOR * self.sc.noise.tremor,
+                    shifted)
+                shifted[step.obj] = dest
+                grip = _add(dest, (0, 0, held_dz + HOVER))
                 support_top = step.dest[2] - size[2] / 2
                 carried = top + size[2] + 20.0
                 fine = []
@@ -188,12 +196,63 @@ class _Planner:
                 fine.append(("fine", fine[-1][1] if fine else grip, 1.0,
                              ("open", pre_shape(size, axis=self.axis)), 0.6))
                 self.local(i, grip, support_top, carried, (), fine)
+                beside = _beside_top(lay, step.obj, dest, size)
+                if beside is not None:  # hand z where the block's bottom passes their tops
+                    k = max(j for j, g in enumerate(self.segs) if g.step == i
+                            and g.phase == "approach")
+                    self.segs[k] = replace(self.segs[k], steady=grip[2] - dest[2] + size[2] / 2
+                                           + beside + STEADY_ABOVE_MM)
                 held = None
             lay = self.sc.states[i]
         exit_point = (math.copysign(480.0, self.p[0] or 1.0), self.p[1], 230.0)
         self.transfer(-1, exit_point, _scene_top(lay))
         self.add("absent", -1, exit_point, ABSENT, action=("present", False))
         return self.segs
+
+
+def _clear_of_neighbours(lay: Layout, obj: str, dest: Vec3, size: Vec3, gap: float,
+                         shifted: dict[str, Vec3]) -> Vec3:
+    """``dest`` moved away from each block beside it at its level closer than ``gap`` mm.
+
+    A person sets a block down against another without catching its top edge; the
+    held block, let down exactly flush, caught a neighbour's corner with the contact
+    slop, hung on it and slid 23 mm off when let go (helper round 8, v66: 40 mm cubes
+    laid touching along x), and the symbolic states no longer told what the cameras
+    saw. ``shifted``: where earlier blocks were let down instead of their dests (in a row
+    laid touching, each is moved from the last one's shifted place)."""
+    d = list(dest)
+    low, high = dest[2] - size[2] / 2, dest[2] + size[2] / 2
+    skip = {obj, *lay.riders(obj)}
+    for other, c in lay.center.items():
+        c, s = shifted.get(other, c), lay.size[other]
+        if other in skip or c[2] + s[2] / 2 <= low + 0.5 or c[2] - s[2] / 2 >= high - 0.5:
+            continue  # a support under it, or nothing at its level
+        for a in (0, 1):
+            if abs(d[1 - a] - c[1 - a]) >= (size[1 - a] + s[1 - a]) / 2:
+                continue  # not facing it along this axis
+            room = abs(d[a] - c[a]) - (size[a] + s[a]) / 2
+            if -gap - 0.5 < room < gap:
+                d[a] += math.copysign(gap - room, d[a] - c[a])
+    return (d[0], d[1], d[2])
+
+
+def _beside_top(lay: Layout, obj: str, dest: Vec3, size: Vec3) -> float | None:
+    """The highest top of the blocks standing within BESIDE_MM of a block let down at
+    ``dest`` and higher than its bottom, but not under it (None: none). A person
+    steadies the hand as the block comes down among them: a block shaken 2.5 mm sideways
+    while its bottom passed a neighbour's top caught its corner and pushed it 4 mm
+    (helper round 8, v66)."""
+    low = dest[2] - size[2] / 2
+    skip = {obj, *lay.riders(obj)}
+    tops = []
+    for other, c in lay.center.items():
+        s = lay.size[other]
+        top = c[2] + s[2] / 2
+        if other in skip or top <= low + 0.5:
+            continue  # under it, or lower
+        if all(abs(dest[a] - c[a]) < (size[a] + s[a]) / 2 + BESIDE_MM for a in (0, 1)):
+            tops.append(top)
+    return max(tops, default=None)
 
 
 def _scene_top(lay: Layout) -> float:
@@ -236,6 +295,9 @@ class Demonstration:
             s = min_jerk((t - seg.t0) / d) if d > 0 else 1.0
             u = s if seg.phase == "depart" else 1.0 - s
             scale = QUIET + (1 - QUIET) * min(1.0, 3.0 * u)
+            if seg.phase == "approach":  # steady once the block comes down among neighbours
+                scale = min(scale, QUIET + (1 - QUIET) * min(1.0, max(
+                    0.0, (p[2] - seg.steady) / STEADY_RAMP_MM)))
         for axis, (amp, w, ph) in enumerate(self._tremor):
             p[axis] += scale * amp * sum(math.sin(w[k] * t + ph[k]) for k in range(3))
         return (p[0], p[1], p[2]), seg
