@@ -137,3 +137,20 @@ def test_gripper_grasps_lifts_and_releases_a_block():
     g.open(60.0)
     w.settle(1.0)
     assert g.holding is None and ["on", "left", "table"] in w.relations(RULES.roles)
+
+
+@pytest.mark.parametrize("name", ["cubes-touching-along-x", "staircase-x-touching",
+                                  "tiny-row-x-touching"])
+def test_blocks_laid_touching_end_where_the_scenario_says(name):
+    """Helper round 8 (v66, v23, v14): blocks laid touching along x. Let down flush, each
+    shaking with the approach's tremor until its bottom passed the neighbour's top,
+    caught the neighbour's corner and slid 4-23 mm, so the cameras saw another structure
+    than the symbolic states the run is scored on. Every block ends within 4 mm of its
+    place in the scenario's last state."""
+    sc = load(Path(__file__).parent / "data" / f"{name}.yaml")
+    demo = Demonstration(sc)
+    for _ in demo:
+        pass
+    final = sc.states[-1].center
+    for obj, at in demo.world.positions().items():
+        assert math.dist(at, final[obj]) < 4.0, (obj, at, final[obj])
