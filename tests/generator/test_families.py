@@ -117,10 +117,14 @@ def test_gaps_are_kept_only_where_the_demonstration_ends_as_written():
     """Bench seed 1151 at 2x: a cube meant for 1 mm beside its neighbour landed on the
     neighbour's edge and slid 16 mm off, and the next one, meant for 9 mm beside it, then
     overlapped it; the bench expected places the demonstration did not make. Gaps are
-    now simulated under the level's tremor before they are kept."""
+    simulated under the level's tremor before they are kept. Since stop 27 the
+    demonstrator lets a block down clear of a neighbour it would touch, with a steady
+    hand among its neighbours, and that draft ends as written too."""
     slid = load(Path(__file__).parent / "data" / "gaps-1151-slid.yaml")
-    assert not stands(slid)
+    assert stands(slid)
     assert stands(generate(1151, "2x", family="gaps").scenario())
+    # the check can fail: a beam set on a post with its centre 50 mm past it tips off
+    assert not stands(load(Path(__file__).parent / "data" / "beam-off-its-post.yaml"))
 
 
 def test_unknown_family_and_structures_outside_classic_are_errors():
