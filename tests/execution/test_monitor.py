@@ -149,14 +149,17 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
 
 
 @pytest.mark.parametrize("name", ["slab-robot-lowers-fast.yaml", "unstack-equal-blocks.yaml",
-                                  "disk-on-the-lintel.yaml"],
-                         ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside"])
+                                  "disk-on-the-lintel.yaml", "l-shape-mixed.yaml"],
+                         ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside",
+                              "withdraw-beside-a-block"])
 def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     """Fault-free runs of users' scenarios (helper round 4): the monitor must not see a
     difference and redo an ACHIEVE (search.py leaving; matching.py _covered). Helper
     round 7 (u43): the robot's pick of a 10 mm disk set aside off the lintel showed 0.39
     of the holder window, where a pick asked 0.6; the monitor took the lintel's pick for
-    the disk's and set the lintel down again (change.py, a held block's fill)."""
+    the disk's and set the lintel down again (change.py, a held block's fill). Round 7
+    (u17): counting a pick's shade change read the robot's withdraw from a block set down
+    5 mm from another as a second PICK (that rule was taken out again)."""
     from lbw_engine.pipeline.run import run
     from perception.world.scenario import load
 
@@ -219,8 +222,6 @@ def test_which_blocks_on_the_table_have_tipped(position, size, want, tipped):
 QUIET_RUNS = [
     (1192, "nominal", "small", 0, "a 19 mm cube set down at the table's corner, tracked 4 mm "
      "low: its bottom below the table top left the search no region, so no arrival"),
-    (1264, "nominal", "small", 2, "a 10 mm cube picked from before a crate's faces changed "
-     "their shades only: the redo of its place was read as a NO-OP too (4 before)"),
 ]
 
 
@@ -229,8 +230,7 @@ QUIET_RUNS = [
 @pytest.mark.heavy
 def test_fault_free_bench_runs_raise_no_false_detection(seed, level, family, most, why):
     """`lbw bench --count 300 --seed 1` runs with no fault injected: the monitor must not
-    see the robot do other than it did (perception/vision/envnodes/search.py regions,
-    change.py shade_change for picks)."""
+    see the robot do other than it did (perception/vision/envnodes/search.py regions)."""
     from lbw_engine.cli.bench import run_one
 
     record = run_one((seed, level, family, None))

@@ -194,11 +194,8 @@ class ChangeNode(EnvNodeBase):
                                                       det.windows["side"][0], shot, last,
                                                       first["size"], known_boxes(env)):
                 result = APPEARED  # the finger that hid it has let it go
-            elif (not act.special and first.get("empty", before) <= EMPTY and (
-                    after >= held or shade_change(shot, last) >= det.area_threshold)
+            elif (not act.special and first.get("empty", before) <= EMPTY and after >= held
                   and not self.still_there(act, env, shot, last)):
-                # or taken from in front of blocks in view (a 10 mm cube before a crate's
-                # faces, lifted out of the window: bench 1264's four false detections)
                 result = DISAPPEARED
         let_go, found = self.hand.let_go(act.since), ()
         if result == APPEARED and top is not None:
