@@ -79,9 +79,13 @@ class ObjectFinder(VFD):
         cands = [self._heights(rect, labels, areas, solid) for rect in faces]
         fallback: dict[int, tuple[float, float]] = {}
 
+        def paired(k: int, pairing: dict[int, tuple[float, float]]) -> bool:
+            """Whether face ``k``'s height is a side-view top face's of its own."""
+            return k in pairing and pairing[k][1] >= MIN_SCORE
+
         def height_of(k: int, pairing: dict[int, tuple[float, float]]) -> tuple[float, float]:
             """A face's (height, score): its pairing, else the silhouette search."""
-            if k in pairing and pairing[k][1] >= MIN_SCORE:
+            if paired(k, pairing):
                 return pairing[k]
             if k not in fallback:  # the top face is too thin to see from the side
                 rim = any(frames(faces[k], f) for j, f in enumerate(faces) if j != k)
@@ -106,7 +110,7 @@ class ObjectFinder(VFD):
             height, score = height_of(k, pairing)
             if score < MIN_SCORE:
                 continue
-            if k in pairing and pairing[k][1] >= MIN_SCORE:
+            if paired(k, pairing):
                 measured.add(len(boxes))
             boxes.append((height, self.footprint(rect, height), rect))
         boxes = unseen_heights(boxes, self.cameras["side"], self.cameras["side"].size,

@@ -16,16 +16,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 
-import cv2
-import numpy as np
-
-from perception.vision.vfd.objects_rings import holds_centre
+from perception.vision.vfd.base import Region3D, region_mask, regions_mask
+from perception.vision.vfd.objects_rings import Box, heights_of, holds_centre
+from perception.vision.vfd.resources import Window
 
 HIDDEN_SHARE = 0.6  # of a top face's side-view image inside nearer blocks' images: unseen
 APART_MM = 10.0  # a nearer block stands this far in front: not a ring of the same stack
-SAME_XY_MM = 8.0  # a footprint this close to a shape's (summed over x and y) may be it
 
-Box = tuple[float, tuple[float, float, float, float], tuple]  # (height, footprint, rect)
 Footprint = Callable[[tuple, float], tuple[float, float, float, float]]
 
 
@@ -34,36 +31,27 @@ def unseen_heights(boxes: list[Box], cam, size: tuple[int, int], footprint: Foot
     """``boxes`` with each top face that the blocks nearer the side camera hide at its
     height lowered to the height of the shape its footprint names, where that hides it
     too. ``size``: the side image's (width, height)."""
+    whole = Window("side", 0, 0, size[0], size[1])
     out = list(boxes)
-    for k, (h, (x0, y0, x1, y1), rect) in enumerate(boxes):
-        nearer = [b for j, b in enumerate(boxes) if j != k and b[1][3] < y0 - APART_MM]
+    for k, (h, fp, rect) in enumerate(boxes):
+        nearer = [b for j, b in enumerate(boxes) if j != k and b[1][3] < fp[1] - APART_MM]
         if not nearer or any(j != k and (holds_centre(r, rect) or holds_centre(rect, r))
                              for j, (_, _, r) in enumerate(boxes)):
             continue  # nothing in front; or a face of a stack, whose column the seams read
-        front = np.zeros((size[1], size[0]), np.uint8)
-        for g, (a0, b0, a1, b1), _ in nearer:
-            _fill(front, cam, [(x, y, z) for x in (a0, a1) for y in (b0, b1) for z in (0.0, g)])
-        if _hidden(front, cam, footprint(rect, h), h) < HIDDEN_SHARE:
+        front = regions_mask(cam, [Region3D((a0, b0, 0.0), (a1, b1, g))
+                                   for g, (a0, b0, a1, b1), _ in nearer], whole)
+        if not _hidden(cam, whole, front, footprint(rect, h), h):
             continue
-        tall = [float(s[2]) for s in shapes.values() if float(s[2]) < h - 3.0 and
-                abs(float(s[0]) - (x1 - x0)) + abs(float(s[1]) - (y1 - y0)) <= SAME_XY_MM]
-        for z in sorted(tall, reverse=True):
-            if _hidden(front, cam, footprint(rect, z), z) >= HIDDEN_SHARE:
+        for z in sorted((t for t in heights_of(fp, shapes) if t < h - 3.0), reverse=True):
+            if _hidden(cam, whole, front, footprint(rect, z), z):
                 out[k] = (z, footprint(rect, z), rect)
                 break
     return out
 
 
-def _hidden(front: np.ndarray, cam, fp: tuple[float, float, float, float], h: float) -> float:
-    """Share of the side-view image of the top face ``fp`` at height ``h`` inside ``front``."""
-    face = np.zeros_like(front)
-    x0, y0, x1, y1 = fp
-    _fill(face, cam, [(x0, y0, h), (x1, y0, h), (x1, y1, h), (x0, y1, h)])
+def _hidden(cam, window: Window, front, fp: tuple[float, float, float, float], z: float
+            ) -> bool:
+    """Whether ``front`` (a mask of the blocks in front) hides the top face ``fp`` at ``z``."""
+    face = region_mask(cam, Region3D((fp[0], fp[1], z), (fp[2], fp[3], z)), window)
     n = int(face.sum())
-    return float((face & front).sum()) / n if n else 0.0
-
-
-def _fill(mask: np.ndarray, cam, points: list) -> None:
-    """Draw the convex hull of the world ``points``' projections into ``mask`` (1s)."""
-    uv = np.rint(cam.project(np.array(points, float)) * 16).astype(np.int32)
-    cv2.fillConvexPoly(mask, cv2.convexHull(uv), 1, cv2.LINE_8, 4)
+    return n > 0 and float((face & front).sum()) / n >= HIDDEN_SHARE

@@ -82,10 +82,18 @@ def room_between(upper: Box, low: float, thinnest: float,
     """Whether a block of the database fits between height ``low`` and the bottom of
     ``upper`` read as the tallest shape its footprint may be: three cubes on a slab near
     the table's corner show the slab's top as an L around the top cube (helper e08)."""
-    h, (x0, y0, x1, y1), _ = upper
-    tall = [float(s[2]) for s in (shapes or {}).values()
-            if abs(float(s[0]) - (x1 - x0)) + abs(float(s[1]) - (y1 - y0)) <= STACK_XY_MM]
+    h, footprint, _ = upper
+    tall = heights_of(footprint, shapes or {})
     return bool(tall) and h - max(tall) - low > max(3.0, thinnest - 3.0)
+
+
+def heights_of(footprint: Sequence[float], shapes: Mapping[str, Sequence[float]]
+               ) -> list[float]:
+    """Heights of the shapes a block with this top-face ``footprint`` (x0, y0, x1, y1; mm)
+    may be: their x and y sizes within STACK_XY_MM of its extents, summed."""
+    x0, y0, x1, y1 = footprint
+    return [float(s[2]) for s in shapes.values()
+            if abs(float(s[0]) - (x1 - x0)) + abs(float(s[1]) - (y1 - y0)) <= STACK_XY_MM]
 
 
 def split_rims(boxes: list[Box], skip: set[int], sliver_px: float, ringed: set[int] = frozenset()
