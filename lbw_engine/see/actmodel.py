@@ -38,6 +38,9 @@ class ActNode:
     measured: dict[str, Any] = field(default_factory=dict)  # feature -> measured position
     found_by: dict[str, tuple[str, ...]] = field(default_factory=dict)  # feature -> names
     bound: dict[str, tuple[str, ...]] = field(default_factory=dict)  # effect variable -> names
+    # The Table VII row, the ending node and the detection this node was made from by a
+    # :next transition: its slots are bound again if that node is classified late.
+    origin: tuple[Any, ActNode, Detection | None] | None = None
 
     def slot(self, name: str) -> tuple[str, ...]:
         """The names in slot ``name`` (base, target or special)."""

@@ -162,13 +162,19 @@ class Recognizer:
             parent, level = act, act.level + 1
             if act.subnode is not None:
                 self._terminate(act.subnode, event)
-        slots = {
+        node = self._create(row.next, parent, level, self._bind(row, act, detection), event)
+        if row.direction == "next":
+            node.origin = (row, act, detection)
+
+    def _bind(self, row: TransitionRow, act: ActNode, detection: Detection | None
+              ) -> dict[str, tuple[str, ...]]:
+        """The next ACT-node's slots by a transition row (a slot left out: ``act``'s)."""
+        return {
             slot: actmodel.resolve(row.slots[slot], act, self.env, detection)
             if slot in row.slots
             else act.slot(slot)
             for slot in ("base", "target", "special")
         }
-        self._create(row.next, parent, level, slots, event)
 
     def _redirect(
         self, act: ActNode, row: RedirectionRow, attn: AttnNode | None, detection: Detection | None
@@ -230,12 +236,15 @@ class Recognizer:
 
         If a snapshot detector cannot judge the motion's end state yet, the motion
         still ends now (segmentation) but its classification waits for a later frame
-        (frames stay in order: it uses no frame after the one it is decided on).
+        (frames stay in order: it uses no frame after the one it is decided on). A
+        motion is classified after every earlier motion of its parent: effects change
+        the environment model in the order the motions happened.
         """
         if node.subnode is not None:
             self._terminate(node.subnode, event)
             node.subnode = None
         self._settle_deferred(node)
+        self._settle_deferred(node.parent, before=node)
         lasts = self._last_snapshots(node)
         node.final_event, node.t_end = event, self.t_seg
         if node.parent is not None:
@@ -258,14 +267,32 @@ class Recognizer:
                 return True
         return False
 
-    def _settle_deferred(self, parent: ActNode | None) -> None:
-        """Classify deferred motions that can be judged now; those of ``parent`` in any case."""
+    def _settle_deferred(self, parent: ActNode | None, before: ActNode | None = None) -> None:
+        """Classify deferred motions that can be judged now; those of ``parent`` in any case
+        (with ``before``: only those that ended before it, its earlier siblings).
+
+        A motion made by a :next transition from one classified late had its slots
+        bound from the environment model before that one's effect: they are bound
+        again, and its initial state copied again (a motion begun while the one
+        before it waited to be judged still named the block set down there).
+        """
         for node in list(self.deferred):
-            forced = parent is not None and node.parent is parent
+            forced = parent is not None and node.parent is parent and node is not before
             lasts = self._last_snapshots(node)
             if forced or not self._pending(lasts):
                 self.deferred.remove(node)
                 self._classify(node, lasts)
+                self._rebind_successor(node)
+
+    def _rebind_successor(self, node: ActNode) -> None:
+        """Bind again the slots of the open motion made from ``node`` (see above)."""
+        after = node.parent.subnode if node.parent is not None else None
+        if after is None or after.origin is None or after.origin[1] is not node:
+            return
+        row, _, detection = after.origin
+        for slot, names in self._bind(row, node, detection).items():
+            setattr(after, slot, names)
+        after.initial_state = self.env.snapshot(self.env.nodes)
 
     def _classify(self, node: ActNode, lasts: dict[str, Any]) -> None:
         """Features (Table V) from the snapshot comparisons, the operation, its effect, FS."""

@@ -95,3 +95,38 @@ def test_frames_reach_every_detector_once_per_frame():
     rec = Recognizer(RULES, DetectorRegistry.for_rules(RULES, provided), EnvModel(RULES))
     rec.run([(0.0, "frame0"), (0.1, "frame1")])
     assert double.frames == [(0.0, "frame0"), (0.1, "frame1")]
+
+
+def _deferred_place(pending_until: float, judged_at: int):
+    """Pick b1, put it on b2 (its :Far at frame 8), reach for b1 again (:Near at frame 11),
+    with the change-detector unable to judge the place's end before ``pending_until``;
+    its comparison is recorded on frame ``judged_at``."""
+    from lbw_engine.see.replay import replay_detectors, script_trace
+
+    place = [DOWN, [{"event": "near", "found": ["b2"]}], [{"event": "far"}]]
+    frames = [LOCATE, ENTER, *PICK_B1, *place, [], DOWN, [{"event": "near", "found": ["b1"]}]]
+    judged = {"detector": "change-detector", "value": "increased", "at": [100, 200, 75]}
+    frames[judged_at - 1] = [*frames[judged_at - 1], judged]
+    detectors = replay_detectors(script_trace(RULES, frames), RULES)
+    # a replay snapshot is the time it was taken: the place's end cannot be judged before
+    detectors["change-detector"].pending = lambda last: 8 <= last < pending_until
+    rec = Recognizer(RULES, DetectorRegistry.for_rules(RULES, detectors))
+    for t in range(len(frames) + 1):
+        rec.step(float(t))
+    return rec
+
+
+@pytest.mark.parametrize("pending_until, judged_at", [(10, 10), (99, 11)],
+                         ids=["judged-once-clear", "forced-by-the-next-motion"])
+def test_a_motion_judged_late_rebinds_the_one_after_it(pending_until, judged_at):
+    """A place whose end the detector cannot judge yet (the hand hides it) is classified
+    later, at the latest when the motion after it ends, and before it; the Transfer begun
+    in between was bound while the env model still had b1 in the hand: it is bound again
+    (no special) and classified a REACH, not a REACH-WITH-OBJ."""
+    rec = _deferred_place(pending_until, judged_at)
+    place, reach = rec.root.history[-2:]
+    assert (place.operation, place.special, place.target) == ("PLACE-ON-BLOCK", ("b1",), ("b2",))
+    assert (reach.operation, reach.special) == ("REACH", ())
+    assert not rec.deferred and rec.env.held() == ()
+    assert ("holding", "hand", "b1") not in {tuple(r.to_json()[:3])
+                                             for r in reach.initial_state.relations}

@@ -149,9 +149,10 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
 
 
 @pytest.mark.parametrize("name", ["slab-robot-lowers-fast.yaml", "unstack-equal-blocks.yaml",
-                                  "disk-on-the-lintel.yaml", "l-shape-mixed.yaml"],
+                                  "disk-on-the-lintel.yaml", "l-shape-mixed.yaml",
+                                  "tower-behind-a-tall-post.yaml"],
                          ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside",
-                              "withdraw-beside-a-block"])
+                              "withdraw-beside-a-block", "post-the-plan-leaves-alone"])
 def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     """Fault-free runs of users' scenarios (helper round 4): the monitor must not see a
     difference and redo an ACHIEVE (search.py leaving; matching.py _covered). Helper
@@ -159,7 +160,9 @@ def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     of the holder window, where a pick asked 0.6; the monitor took the lintel's pick for
     the disk's and set the lintel down again (change.py, a held block's fill). Round 7
     (u17): counting a pick's shade change read the robot's withdraw from a block set down
-    5 mm from another as a second PICK (that rule was taken out again)."""
+    5 mm from another as a second PICK (that rule was taken out again). Round 8 (v06):
+    the robot watch did not know the 150 mm post the plan leaves alone, whose image
+    covered a cube's spot far behind it, and read the cube's pick as a NO-OP."""
     from lbw_engine.pipeline.run import run
     from perception.world.scenario import load
 

@@ -202,3 +202,8 @@ def boxes_but(env: EnvModel, names: set[str]) -> list[Region3D]:
     """Boxes of the located objects not named in ``names``."""
     return [box(n) for n in env.objects() if n.name not in names and n.position is not None
             and n.size is not None]
+
+
+def nearer(depth: float, env: EnvModel, but: frozenset | set = frozenset()) -> list[Region3D]:
+    """Boxes of known objects (not ``but``, not held) nearer the side camera than y=depth."""
+    return [b for b in boxes_but(env, set(but) | set(env.held())) if b.hi[1] <= depth]

@@ -1,0 +1,97 @@
+"""What the holder window between the fingers shows (Sec. III-C3), objects in view or not.
+
+The side camera sees, between the open fingers, whatever stands behind or in front
+of the hand at that height, as well as the hand's load. ``HolderView`` reads the
+window against the environment model: which of its pixels other known objects
+explain, how much of a held block those nearer the camera hide, and whether the
+window can say anything at all (docs/seeing.md, "holder window").
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from lbw_engine.model.env import EnvModel, EnvNode
+from lbw_engine.see.detectors import ActView
+from perception.vision.envnodes.hand import HandState
+from perception.vision.envnodes.placement import boxes_but, nearer
+from perception.vision.vfd.base import BLOCK_MIN, Region3D, region_mask, regions_mask
+
+# The holder window's block pixels are counted only where no other known object's image
+# falls; when less than this share of the window is left, the whole window counts.
+HOLDER_CLEAR = 0.2
+
+
+class HolderView:
+    """The tracked hand's holder window, read against the environment model."""
+
+    def __init__(self, hand: HandState) -> None:
+        """A view of ``hand``'s holder window through its sight's side camera."""
+        self.hand = hand
+
+    def unexplained(self, act: ActView, env: EnvModel) -> float:
+        """Block fraction of the holder window that no other known object explains.
+
+        Between open fingers the side camera also sees whatever stands behind or in front
+        of the hand at that height: a robot lifting straight up from a block it set down
+        behind a neighbour has a third block far behind in its holder window (fault bench
+        9007, 0.42 block pixels, read as still holding). Pixels where another object of
+        the environment model projects are left out; the motion's own objects (its
+        target, what the hand carries) are not, since they are what the window asks about.
+        Only "is the hand empty?" asks this: a held block in front of a known object
+        would lose its pixels there ("is it holding?" is ``in_hand``).
+        """
+        clear = self.clear(act, env)
+        if clear is None:
+            return self.hand.tracker.holding_evidence
+        sub = self.hand.tracker.holder.window.read(self.hand.sight.frame.view("side"))
+        return float(((sub >= BLOCK_MIN) & clear).sum()) / float(clear.sum())
+
+    def clear(self, act: ActView, env: EnvModel) -> np.ndarray | None:
+        """The window's pixels where no known object but the motion's own projects
+        (``unexplained``); None when they are fewer than HOLDER_CLEAR of it: the side
+        view then sees those objects, not the hand's load."""
+        if self.hand.sight.frame is None:
+            return None
+        window = self.hand.tracker.holder.window
+        own = set(env.held()) | {n.name for n in env.get(act.target)}
+        clear = ~regions_mask(self.hand.sight.cameras["side"], boxes_but(env, own), window)
+        return None if clear.sum() < HOLDER_CLEAR * clear.size else clear
+
+    def in_hand(self, load: Region3D | None, env: EnvModel) -> float:
+        """Block fraction of the window, leaving out where known objects nearer the side
+        camera than ``load`` (a block in the hand) project: those hide the hand and show
+        themselves (an empty hand rising behind a 120 mm post read as holding the cube it
+        had touched, helper round 8, v59). Objects behind it stay in: a held block
+        covers them."""
+        evidence = self.hand.tracker.holding_evidence
+        frame = self.hand.sight.frame
+        if frame is None or load is None:
+            return evidence
+        window = self.hand.tracker.holder.window
+        front = nearer(float(load.lo[1]), env)
+        clear = ~regions_mask(self.hand.sight.cameras["side"], front, window)
+        if clear.sum() < HOLDER_CLEAR * clear.size:
+            return evidence
+        sub = window.read(frame.view("side"))
+        return float(((sub >= BLOCK_MIN) & clear).sum()) / float(clear.sum())
+
+    def visible_fill(self, held: tuple[EnvNode, Region3D], env: EnvModel) -> float:
+        """Share of the window a held block's side image can fill (``HandState.held_fill``),
+        less what known objects nearer the side camera hide of it: a cube carried down
+        behind a 150 mm post (helper round 8, v06) showed 0.28 of the window, and was read
+        as still held after it was set down."""
+        return self.shown(held, env, self.hand.tracker.holder.window) * \
+            self.hand.held_fill(held[1])
+
+    def shown(self, held: tuple[EnvNode, Region3D], env: EnvModel, window: Any) -> float:
+        """Share of a held block's side outline in ``window`` that no known object nearer
+        the side camera hides."""
+        cam = self.hand.sight.cameras["side"]
+        outline = region_mask(cam, held[1], window)
+        if not outline.any():
+            return 0.0
+        front = nearer(float(held[1].lo[1]), env, {held[0].name})
+        return float((outline & ~regions_mask(cam, front, window)).sum() / outline.sum())
