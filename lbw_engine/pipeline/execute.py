@@ -143,8 +143,11 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         report.update(stage="execution", failure=f"execution: {exc}", mismatches=[],
                       faults=injector.injected, faults_not_injected=injector.missed(),
                       ground_truth_toppled=_toppled(world), verification=stopped)
-        return ExecutionResult(False, str(exc), f";;; stopped: {exc}\n", report, None, views,
-                               "execution")
+        # the commands the robot ran before it stopped stay on record (helper round 9)
+        ran = format_commands(Trace(mon.ops, mon.model), f"plan {plan.root} in {sc.name}") \
+            if mon.ops else ""
+        return ExecutionResult(False, str(exc), f"{ran};;; stopped: {exc}\n", report, None,
+                               views, "execution")
     names = list(matching.assigned)
     expected = model.settled(names)
     expected_sup = model.final_supports(names)

@@ -209,6 +209,10 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         done = [u for u in done if u not in redo]
         fresh = remodel(ruleset, eyes.shapes, eyes.shape_of, seen.states, seen.spares,
                         seen.measured, rules.home)
+        # the wrist stays as the last unit left it: a repair that assumed it straight
+        # skipped its turn, opened the jaws across the block's long side to the short
+        # side's width, and came down on it (helper round 9, w97)
+        fresh.wrist = robot.wrist
         todo = []
         for name in in_the_way(redo, goals, fresh):  # e.g. a rider fell onto its support's spot
             unit_x = next(u for u in redo if u.focus == name)

@@ -99,6 +99,11 @@ class Robot:
             self._step()
         self._wait(lambda: self.gripper.settled, 1.0)
 
+    @property
+    def wrist(self) -> float:
+        """The jaws' closing direction now, degrees from world x (the arm's own joint)."""
+        return 90.0 * self.gripper.axis
+
     def turn_wrist(self, angle: float) -> None:
         """Turn the wrist about the vertical: the jaws close along world x (0°) or y (90°)."""
         if abs(angle - 90.0 * round(angle / 90.0)) > 1e-6:

@@ -75,6 +75,17 @@ def test_a_drop_beside_a_standing_block_is_repaired(tmp_path, capsys):
     assert report["verification"] == {"cameras": True, "ground_truth": True}
 
 
+def test_a_repair_turns_the_wrist_from_where_the_last_unit_left_it(tmp_path, capsys):
+    """The repair's commands start from the measured state and the wrist as it is: a
+    block gripped across y, displaced, is gripped across x again after a turn (the
+    model of the measured state had the wrist straight and skipped it: helper round 9)."""
+    code, report, err = execute(tmp_path, "narrow-block-displaced",
+                                DATA / "narrow-block-displaced.yaml", capsys)
+    assert code == 0, err
+    assert [d["kind"] for d in report["monitor"]["detections"]] == ["position"]
+    assert report["verification"] == {"cameras": True, "ground_truth": True}
+
+
 def test_a_fault_that_never_fires_is_reported(tmp_path, capsys):
     """A drop tied to an ACHIEVE the plan never reaches changes nothing; the user is told
     (execution.json faults_not_injected, a note on stderr), not left to believe it was tried."""
@@ -101,6 +112,10 @@ def test_a_removed_object_without_a_spare_ends_the_run_naming_it(tmp_path, capsy
     assert "top1" in err
     # both verdicts on what stands when the run stopped: the structure is unfinished
     assert report["verification"] == {"cameras": False, "ground_truth": False}
+    # the commands run before the stop stay in commands.txt, the reason last
+    commands = (tmp_path / "out" / "commands.txt").read_text().splitlines()
+    assert " close-hand" in commands and " open-hand 42.0" in commands
+    assert commands[-1].startswith(";;; stopped: 'top1'")
 
 
 def test_no_detection_without_faults(tmp_path, capsys):
@@ -150,9 +165,11 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
 
 @pytest.mark.parametrize("name", ["slab-robot-lowers-fast.yaml", "unstack-equal-blocks.yaml",
                                   "disk-on-the-lintel.yaml", "l-shape-mixed.yaml",
-                                  "tower-behind-a-tall-post.yaml"],
+                                  "tower-behind-a-tall-post.yaml",
+                                  "narrow-block-touching-a-cube.yaml"],
                          ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside",
-                              "withdraw-beside-a-block", "post-the-plan-leaves-alone"])
+                              "withdraw-beside-a-block", "post-the-plan-leaves-alone",
+                              "pick-beside-a-touching-block"])
 def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     """Fault-free runs of users' scenarios (helper round 4): the monitor must not see a
     difference and redo an ACHIEVE (search.py leaving; matching.py _covered). Helper
@@ -187,7 +204,8 @@ def test_a_block_tipped_onto_its_side_ends_the_run_naming_it(tmp_path, capsys):
     assert report["ground_truth_toppled"]  # the simulator agrees it fell
 
 
-@pytest.mark.parametrize("name", ["tiny-row-y-gap6", "small-row-13mm", "tiny-row-x-gap6"])
+@pytest.mark.parametrize("name", ["tiny-row-y-gap6", "small-row-13mm", "tiny-row-x-gap6",
+                                  "tiny-row-y-gap4", "tiny-tower-10mm"])
 def test_a_small_block_set_down_by_the_robot_is_seen_placed(tmp_path, capsys, name):
     """Helper round 5 (t10): 16 mm cubes in a row along y. The robot lowers a block slowly,
     so the landing box already shows it at the first snapshot, and the holder window
@@ -197,7 +215,11 @@ def test_a_small_block_set_down_by_the_robot_is_seen_placed(tmp_path, capsys, na
     (nominal, 13 mm cubes in a row along y): 0.12 of the window, four detections. Helper
     round 7 (u24): along x the jaws close across y, and a finger hides the cube from the
     side, from start to release: nothing between the fingers, and nothing seen to appear
-    where the hand had been (change.py ``revealed``)."""
+    where the hand had been (change.py ``revealed``). Helper round 9: a 10 mm cube
+    set on another (w83) and a 12 mm one set 4 mm in front of another (w24) fill 0.06
+    of the window, as an empty hand does; the first is seen by its crease lines where
+    it was let go (``seen_at`` with creases), the second from above once the gripper
+    has left the spot (``palm_over``: the motion waits)."""
     code, report, err = execute(tmp_path, name, DATA / f"{name}.yaml", capsys)
     assert code == 0, err
     assert report["monitor"]["detections"] == [] and report["monitor"]["repairs"] == []

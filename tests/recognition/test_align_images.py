@@ -50,6 +50,17 @@ def test_a_block_set_down_flush_without_a_slide_is_no_align():
     assert fine == ["NO-OP"] * 3
 
 
+def test_a_block_set_on_one_of_its_own_size_is_no_align():
+    """Side faces line up with a neighbour's only at one level: a 10 mm cube set exactly
+    on another has its bottom 10 mm above the other's, and was read as ALIGNed with it
+    (helper round 9, w23; CoplanarNode.status, LEVEL_SHARE)."""
+    sc, _, actions = watch_file(DATA / "tower-of-10mm-cubes.yaml")
+    assert_sequence(sc, actions)
+    fine = [f["operation"] for op in actions["operations"] if op["special"]
+            for f in op["fine"]]
+    assert fine == ["NO-OP"] * 3
+
+
 @pytest.mark.parametrize("name,aligns", [
     # an 8 mm slide, the faces hidden at its start (CoplanarNode.compare)
     ("align-short-slide.yaml", [["NO-OP"], ["ALIGN"]]),

@@ -17,6 +17,7 @@ from lbw_engine.model.env import EnvModel
 from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
+from perception.vision.envnodes.placement import settled
 from perception.vision.vfd.base import Region3D
 from perception.vision.vfd.coplanar import CoplanarDetector
 
@@ -24,7 +25,7 @@ CONTACT_MM = 6.0  # two blocks closer than this side by side are in contact (for
 # ... or overlapping by up to this much: the held block's box comes from the hand at the
 # release, which tremor and the grip estimate put 5-8 mm into a neighbour it touches
 OVERLAP_MM = 12.0
-SETTLE_MM = 20.0  # a held block's bottom this near its target's top has come down onto it
+LEVEL_MM, LEVEL_SHARE = 10.0, 0.5  # bottoms of side-by-side blocks: within this, this share
 MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes within this
 # ALIGN is a slide (Sec. V-B5): a block let go within rules/constants.yaml `align-slide`
 # (x, y) of where it came down was put in line, not slid into it. The first snapshot is
@@ -59,6 +60,9 @@ class CoplanarNode(EnvNodeBase):
             if other.name == node.name or other.position is None or other.size is None:
                 continue
             b = box(other)
+            # side by side at one level: bottoms this close, and never a block's height
+            # apart (10 mm cubes stacked exactly read as ALIGNed, helper round 9, w23)
+            level = min(LEVEL_MM, LEVEL_SHARE * min(float(a.size[2]), float(b.size[2])))
             for axis, faces in ((1, ("east", "west")), (0, ("north", "south"))):
                 across = 1 - axis
                 gap = abs(a.center[axis] - b.center[axis]) - (a.size[axis] + b.size[axis]) / 2
@@ -66,7 +70,7 @@ class CoplanarNode(EnvNodeBase):
                                                                       - b.center[across])
                 # side by side along this axis (not overlapping along it), faces across it
                 if not -OVERLAP_MM <= gap <= CONTACT_MM or overlap <= 0 \
-                        or abs(a.lo[2] - b.lo[2]) > 10.0:
+                        or abs(a.lo[2] - b.lo[2]) > level:
                     continue
                 for face in faces:
                     offset = offsets[(other.name, face)] = abs(_face(a, face) - _face(b, face))
@@ -112,22 +116,6 @@ class CoplanarNode(EnvNodeBase):
         # the neighbours whose faces became coplanar with the moved block's (ALIGN's `found`)
         found = tuple(sorted({name for name, _ in appeared}))
         return Detection(value=sign, found=found)
-
-
-def settled(a: Region3D, act: ActView, env: EnvModel) -> Region3D:
-    """The held block's box ``a``, set on the motion's target if it has come down to it.
-
-    The box hangs under the hand at the grip measured when it was picked up, and the
-    height of both carries the fingertips' error: 5-15 mm when the jaws close across the
-    side camera's line of sight (align bench 1009: the bottom 12 mm above the table at
-    the release). Faces are side by side only at one level, so the level comes from
-    what the block is put on instead.
-    """
-    tops = [env.nodes[n].top() for n in act.target if n in env.nodes]
-    if not tops:
-        return a
-    dz = max(tops) - float(a.lo[2])
-    return a.shifted(dz=dz) if abs(dz) <= SETTLE_MM else a
 
 
 def _face(region: Region3D, face: str) -> float:

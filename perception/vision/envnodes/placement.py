@@ -40,6 +40,7 @@ CO_LEVEL_MM = 5.0  # coming over; whose top is this level with its support's
 BESIDE_MM = 5.0  # a target whose top is this far above a set-down block's bottom is beside it
 NEIGHBOUR_MM = 1.0  # a target the set-down footprint shares less than this with is beside it
 LEVEL_MM = 12.0  # tops this close are one level (a support is never thinner than 10 mm)
+SETTLE_MM = 20.0  # a held block's bottom this near its target's top has come down onto it
 
 
 def side_extent_x(det: ChangeDetector, cam: Camera, x: float, yz: tuple[float, float],
@@ -207,3 +208,19 @@ def boxes_but(env: EnvModel, names: set[str]) -> list[Region3D]:
 def nearer(depth: float, env: EnvModel, but: frozenset | set = frozenset()) -> list[Region3D]:
     """Boxes of known objects (not ``but``, not held) nearer the side camera than y=depth."""
     return [b for b in boxes_but(env, set(but) | set(env.held())) if b.hi[1] <= depth]
+
+
+def settled(a: Region3D, act: ActView, env: EnvModel) -> Region3D:
+    """The held block's box ``a``, set on the motion's target if it has come down to it.
+
+    The box hangs under the hand at the grip measured when it was picked up, and the
+    height of both carries the fingertips' error: 5-15 mm when the jaws close across the
+    side camera's line of sight (align bench 1009: the bottom 12 mm above the table at
+    the release). Faces are side by side only at one level, so the level comes from
+    what the block is put on instead.
+    """
+    tops = [env.nodes[n].top() for n in act.target if n in env.nodes]
+    if not tops:
+        return a
+    dz = max(tops) - float(a.lo[2])
+    return a.shifted(dz=dz) if abs(dz) <= SETTLE_MM else a
