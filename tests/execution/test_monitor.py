@@ -247,6 +247,10 @@ def test_which_blocks_on_the_table_have_tipped(position, size, want, tipped):
 QUIET_RUNS = [
     (1192, "nominal", "small", 0, "a 19 mm cube set down at the table's corner, tracked 4 mm "
      "low: its bottom below the table top left the search no region, so no arrival"),
+    (1264, "nominal", "small", 0, "a 10 mm cube picked behind a crate: hidden from the "
+     "side, 0.04 of the holder window, the palm over it; judged once the gripper left"),
+    (1120, "nominal", "small", 0, "10 mm cubes: the holder window showed 0.09 of a held "
+     "one, under EMPTY; a place is seen where the hand let go of it, by its creases"),
 ]
 
 

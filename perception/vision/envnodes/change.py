@@ -110,13 +110,7 @@ class ChangeNode(EnvNodeBase):
         (region, size), det = found, self.detector
         held = self.hand.held_box(env) if act.special else None
         fill = self.holder.visible_fill(held, env) if held is not None else None
-        blind = self.holder.clear(act, env) is None
-        if not blind and fill is not None and HOLD_SHARE * fill <= EMPTY:
-            # a block too small for the holder window to tell held from let go, and the
-            # palm still over where it was let go (a 12 mm cube set down 4 mm in front of
-            # another, its creases over the other's face: helper round 9, w24)
-            spot = self.hand.held_box(env, at=self.hand.let_go(act.since), spot=True)
-            blind = spot is not None and self.sights.palm_over(settled(spot[1], act, env))
+        blind = self.holder.clear(act, env) is None or self.too_small(act, env, held, fill)
         det.attention(region)
         shot = det.take(self.sight.frame)
         if held is not None:
@@ -124,6 +118,26 @@ class ChangeNode(EnvNodeBase):
         return {"size": size, "shot": shot, "hold": self.hand.tracker.holding_evidence,
                 "empty": self.holder.unexplained(act, env), "place": held is not None,
                 "blind": blind, "fill": fill}
+
+    def too_small(self, act: ActView, env: EnvModel, held: tuple[EnvNode, Region3D] | None,
+                  fill: float | None) -> bool:
+        """Whether the block the motion moves is too small for the holder window to tell
+        held from not (its share of it, times HOLD_SHARE, at most EMPTY), while the palm
+        still covers from above where it was let go, or where it stood for a pick: a 12 mm
+        cube set down 4 mm in front of another showed the side camera crease lines over
+        the other's face (helper round 9, w24); a 10 mm cube picked behind a crate showed
+        it nothing (bench 1264, the robot watch)."""
+        if held is not None:
+            spot = self.hand.held_box(env, at=self.hand.let_go(act.since), spot=True)
+            spot = settled(spot[1], act, env) if spot is not None else None
+        else:
+            targets = targets_of(act, env)
+            if not targets or self.hand.hand is None:
+                return False
+            lift = (targets[0], Region3D.around(self.hand.hand, targets[0].size))
+            fill, spot = self.holder.visible_fill(lift, env), box(targets[0])
+        return spot is not None and fill is not None and HOLD_SHARE * fill <= EMPTY \
+            and self.sights.palm_over(spot)
 
     def pending(self, last: Any) -> bool:
         """The end state cannot be judged yet: known objects (a tall block between the
@@ -225,6 +239,9 @@ class ChangeNode(EnvNodeBase):
                   and self.holder.in_hand(lift, env) >= held
                   and not self.sights.still_there(act, env, shot, last)):
                 result = DISAPPEARED
+            elif (not act.special and first.get("empty", before) <= EMPTY and targets
+                  and self.seen(targets[0], env) is False):
+                result = DISAPPEARED  # a view that sees its place plainly shows it empty
         let_go, found = self.hand.let_go(act.since), ()
         if result == APPEARED and top is not None:
             pos = top  # x and y from above; nothing better to fit it to
