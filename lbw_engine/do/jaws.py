@@ -95,12 +95,18 @@ def blocker(focus: str, centre: Vec, axis: int, offset: float, rules: CommandRul
 def offsets(size: Vec, axis: int, rules: CommandRules) -> list[float]:
     """Candidate grip offsets across the jaws, nearest the centre first (5 mm apart).
 
-    The fingers grip over the whole of the narrower of the finger and the face: a
-    face wider than the finger lets it slide along the face, a face narrower than
-    the finger (a 12 mm cube, 20 mm deep fingers) lets the finger stick out on one
-    side only, away from a neighbour.
+    Nearest first, the fingers grip over the whole of the narrower of the finger and
+    the face: a face wider than the finger lets it slide along the face, a face
+    narrower than the finger (a 12 mm cube, 20 mm deep fingers) lets the finger stick
+    out on one side only, away from a neighbour. Farther out, in 5 mm steps, a finger
+    sticks out past the face until it grips half of the narrower of the two: against
+    a neighbour touching that side (measured even 1 mm into it), it must end
+    ``clearance`` inside the face. 15 mm cubes set against each other along x could
+    be gripped neither way (lbw bench 1050, with execution objects in side contact).
     """
-    return steps_within(abs(size[1 - axis] - rules.finger[1]) / 2)
+    spare = abs(size[1 - axis] - rules.finger[1]) / 2
+    farther = steps_within(max(size[1 - axis], rules.finger[1]) / 2)
+    return steps_within(spare) + [o for o in farther if abs(o) > spare + 1e-9]
 
 
 def steps_within(reach: float) -> list[float]:

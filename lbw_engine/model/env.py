@@ -299,14 +299,19 @@ class EnvModel:
     def grasp(self, above: float = 15.0) -> str | None:
         """Close the hand: it holds the object between its jaws (and its riders follow).
 
-        That is an object whose footprint holds the hand's x-y and whose height
-        range, extended ``above`` mm upward (the fingers hang below the grip
-        centre), holds the hand's z; the closest centre wins.
+        That is an object whose footprint holds the hand's x-y (less the offset of
+        the grip planned for it, ``grips``: a finger may grip a small block off its
+        centre, away from a neighbour) and whose height range, extended ``above`` mm
+        upward (the fingers hang below the grip centre), holds the hand's z; the
+        closest centre wins.
         """
-        hx, hy, hz = self.hand
         best, best_d = None, float("inf")
         for node in self.objects():
             (x, y, z), (sx, sy, sz) = node.position, node.size
+            hand = list(self.hand)
+            axis, offset = self.grips.get(node.name, (0, 0.0))
+            hand[1 - axis] -= offset
+            hx, hy, hz = hand
             if abs(hx - x) <= sx / 2 and abs(hy - y) <= sy / 2 and \
                     z - sz / 2 <= hz <= z + sz / 2 + above and abs(hz - z) < best_d:
                 best, best_d = node.name, abs(hz - z)

@@ -55,6 +55,11 @@ GRIPS = [
      (1, 0.0)),
     ("plate-200-too-wide-both-ways", model_of({"a": ((200.0, 180.0, 10.0), (0, 200, 0))}),
      "wider than the jaws open (150 mm with 12 mm to spare) whichever way"),
+    # 15 mm cubes set against each other along x (lbw bench 1050, execution objects in
+    # side contact): the fingers, 20 mm deep, grip half the face, away from the other
+    ("15mm-cube-against-another-gripped-off-centre",
+     model_of({"a": ((15.0, 15.0, 15.0), (0, 200, 0)), "n0": ((15.0, 15.0, 15.0), (15, 200, 0))}),
+     (1, -5.0)),
 ]
 
 
@@ -169,6 +174,19 @@ def test_a_touch_that_cannot_be_done_is_left_out():
     assert model.final_supports(["b1", "b2"])["b2"] == ("on", ("b1",))
 
 
+def test_a_block_gripped_off_its_centre_is_held_and_carried():
+    """The model's grasp takes the planned grip's offset off the hand: a 15 mm cube gripped
+    10 mm off its centre stayed on the table in the traced model while the hand carried
+    it away (lbw bench 1050: the monitor then saw it at its goal, not where expected)."""
+    model = model_of({"a": ((15.0, 15.0, 15.0), (0, 200, 0)),
+                      "n0": ((15.0, 15.0, 15.0), (15, 200, 0))})
+    model.grips["a"] = (1, -10.0)
+    model.move_hand((-10.0, 200.0, 7.5 + RULES.grip_offset((15.0, 15.0, 15.0))))
+    assert model.grasp() == "a"
+    model.move_hand((90.0, 100.0, 200.0))
+    assert model.nodes["a"].position[:2] == (100.0, 100.0)
+
+
 def test_a_block_stacked_on_the_one_picked_is_set_aside_first():
     # The brick starts on the cube the plan puts onto the brick (issue #12 class 5).
     plan = planmod.load(DATA / "reverse-stack.plan.json")
@@ -207,10 +225,12 @@ def test_aligned_faces_are_verified_coplanar(off, ok):
 
 
 @pytest.mark.parametrize("size,want", [
-    ((40.0, 40.0, 40.0), [0.0, 5.0, -5.0, 10.0, -10.0]),  # 20 mm finger slides along a 40 mm face
-    ((12.0, 12.0, 12.0), [0.0, 4.0, -4.0]),  # the finger sticks out up to 4 mm on one side
-    ((16.0, 16.0, 16.0), [0.0, 2.0, -2.0]),
-    ((20.0, 20.0, 20.0), [0.0]),
+    # a 20 mm finger slides along a 40 mm face, then half of it grips past the edge
+    ((40.0, 40.0, 40.0), [0.0, 5.0, -5.0, 10.0, -10.0, 15.0, -15.0, 20.0, -20.0]),
+    # the finger sticks out up to 4 mm on one side, then grips half the face
+    ((12.0, 12.0, 12.0), [0.0, 4.0, -4.0, 5.0, -5.0, 10.0, -10.0]),
+    ((16.0, 16.0, 16.0), [0.0, 2.0, -2.0, 5.0, -5.0, 10.0, -10.0]),
+    ((20.0, 20.0, 20.0), [0.0, 5.0, -5.0, 10.0, -10.0]),
 ])
 def test_grip_offsets_reach_the_whole_difference_of_face_and_finger(size, want):
     assert jaws.offsets(size, 0, RULESET.commands) == want

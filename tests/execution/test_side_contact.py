@@ -33,9 +33,10 @@ ROWS = [
     # 12 mm cubes 4 mm apart along y: the 20 mm deep finger grips 4 mm off centre and
     # sticks out on the free side only, so it goes straight down; the top cube rests on both
     ("pyramid-small-y", set(), {}, []),
-    # the same square of 16 mm cubes: fingers wider than a cube, so every contact place
-    # is a push; the last is pushed off centre, on the part of its face clear of c2
-    ("corner-small", {"c3"}, {"c3": "push", "c2": "push", "c4": "push"},
+    # the same square of 16 mm cubes: fingers wider than a cube grip off centre, half
+    # the face, clear of the neighbour (jaws.offsets), so two places are held slides;
+    # the last is pushed off centre, on the part of its face clear of c2
+    ("corner-small", {"c2"}, {"c3": "slide", "c2": "slide", "c4": "push"},
      [("c3", "c1", "west"), ("c2", "c1", "south"), ("c4", "c3", "south")]),
     # the last cube goes into the corner of three: set down clear, pushed in
     ("corner", {"c2"}, {"c2": "slide", "c3": "slide", "c4": "push"},

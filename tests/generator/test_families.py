@@ -212,3 +212,20 @@ def test_families_draw_an_execution_object_lying_on_a_goal_spot(family, seed):
     assert any(abs(at[0] - c[0]) < (size[0] + sc.shapes[sc.teach.objects[n].shape][0]) / 2
                and abs(at[1] - c[1]) < (size[1] + sc.shapes[sc.teach.objects[n].shape][1]) / 2
                for n, c in final.items() if n != blocker[2:])
+
+
+@pytest.mark.parametrize("family,seed", [("small", 1050), ("pillars", 1268), ("bridge", 1059)])
+def test_families_set_an_execution_object_against_another(family, seed):
+    """Helper round 9 (w42-w100): execution objects in side contact, along x or y. The
+    robot grips across the free side, off centre if the block is narrower than the
+    fingers (do/jaws.py offsets), and its watch names the block it took
+    (assemble._touch_a_neighbour)."""
+    import re
+
+    text = generate(seed, family=family).text
+    moved, other = re.search(r"; (x-[\w-]+) is set against (x-[\w-]+)", text).groups()
+    sc = load_text(text)
+    a, b = sc.execute.objects[moved], sc.execute.objects[other]
+    sa, sb = sc.shapes[a.shape], sc.shapes[b.shape]
+    gaps = [abs(a.center[k] - b.center[k]) - (sa[k] + sb[k]) / 2 for k in (0, 1)]
+    assert sorted(gaps)[0] < 0 and abs(sorted(gaps)[1]) < 1e-6  # in contact on one side
