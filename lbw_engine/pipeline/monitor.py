@@ -156,6 +156,11 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
     def snap(name: str, m: EnvModel) -> None:
         if name in unit_names:
             snaps[name] = (m.settled(names), m.final_supports(names))
+            # the robot steps aside after each unit (step_aside): the next unit's reach
+            # starts from there. Traced from above its last place instead, a pick of
+            # the block just set down skipped its reach and came down slanted from the
+            # look pose, knocking it away (helper round 10, v24a)
+            m.move_hand(LOOK_POSE)
 
     tr = trace(plan, rules, model, on_operator=snap)
     plan_supports = tr.model.final_supports(names)

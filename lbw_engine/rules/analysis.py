@@ -21,7 +21,7 @@ from lbw_engine.yamlio import line_of
 # The operator classes of plan.json (design.md); Sec. VI-A3 gives them a priori.
 PLAN_CLASSES = ("BUILD", "PACHIEVE", "ACHIEVE", "FETCH", "PUT", "FAKE")
 # The dependency relations of Sec. VI-C2 (the closed registry of pass names).
-RELATION_KINDS = ("C-T", "B-T", "B-S")
+RELATION_KINDS = ("C-T", "B-T", "B-S", "B-B")
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,10 @@ Relations between two operators OPᵢ (earlier) and OPⱼ (later):
 * C-T: target(OPᵢ) ∩ target(OPⱼ) ≠ ∅ — several objects assembled on one common
   object (the paper's printed formula is garbled; this is what its text says):
   parallel.
+* B-B: base(OPᵢ) ∩ base(OPⱼ) ≠ ∅ — OPⱼ moves again what OPᵢ moved (ordered). The
+  paper's demonstrations move each object once; a cube put at A and then at B had
+  both ACHIEVEs on the table in one C-T closure, in parallel, and the robot left it
+  at A (helper round 10, v24a).
 
 Passes search closures in the order of analysis.yaml (the paper: C-T, B-T, B-S,
 B-T) and are repeated until nothing changes. A closure is a connected component
@@ -76,7 +80,7 @@ class _Index:
                 out.extend((self.pos[id(a)], self.pos[id(b)])
                            for a, b in zip(sharing, sharing[1:], strict=False))
             return out
-        role = "target" if kind == "B-T" else "special"
+        role = {"B-T": "target", "B-S": "special", "B-B": "base"}[kind]
         later_ops = self.ops if among is None else [self.ops[p] for p in sorted(among)]
         for j_op in later_ops:
             for obj in getattr(j_op, role):
@@ -86,8 +90,8 @@ class _Index:
         return out
 
     def _ordering_edges(self) -> set[tuple[int, int]]:
-        """All ordered dependencies (B-T ∪ B-S) as (earlier, later) positions."""
-        return set(self.edges("B-T")) | set(self.edges("B-S"))
+        """All ordered dependencies (B-T ∪ B-S ∪ B-B) as (earlier, later) positions."""
+        return set(self.edges("B-T")) | set(self.edges("B-S")) | set(self.edges("B-B"))
 
     def runs(self, members: list[int]) -> list[list[int]]:
         """Split a closure where an operator in between depends on the stretch."""

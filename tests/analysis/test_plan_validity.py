@@ -82,3 +82,39 @@ def test_every_put_keeps_its_goal_with_coordinates():
             moved = goals[0][1]
             support = goals[0][2] if isinstance(goals[0][2], list) else [goals[0][2]]
             assert op["base"] == [moved] and op["target"] == sorted(support), name
+
+
+# A cube moved more than once (helper round 10): B-B orders the moves of one object.
+MOVED_AGAIN = {
+    # s to A on the table, then to B: both ACHIEVEs target the table (C-T), and were
+    # put in a $parallel, so the robot could leave s at A (v24a)
+    "twice-on-table": ("s: {shape: c20, at: [200, 80]}\n",
+                       [("s", "table", [-50, 200]), ("s", "table", [80, 300])]),
+    # s, then t, then s again onto the plate it stands on (v24c)
+    "interleaved": ("p: {shape: plate, at: [0, 200]}\n    s: {shape: c20, on: p}\n"
+                    "    t: {shape: c20, at: [200, 300]}\n",
+                    [("s", "p", [40, 240]), ("t", "table", [-200, 80]),
+                     ("s", "p", [-40, 160])]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(MOVED_AGAIN))
+def test_the_moves_of_one_object_stay_in_their_order(case):
+    from lbw_engine.see.actions import to_actions
+    from perception.world.oracle import oracle_recognizer
+    from perception.world.scenario import load_text
+
+    objects, moves = MOVED_AGAIN[case]
+    demo = "".join(f"    - pick: {o}\n    - place: {o}\n      on: {on}\n      at: {at}\n"
+                   for o, on, at in moves)
+    sc = load_text("name: moved-again\nshapes:\n  c20: [20, 20, 20]\n  plate: [120, 120, 10]\n"
+                   f"teach:\n  objects:\n    {objects}  demonstration:\n{demo}")
+    rules = load_rules()
+    result = analyze(parse_actions(to_actions(oracle_recognizer(sc, rules)),
+                                   RelationTable(rules.analysis.tolerance)), rules.analysis)
+    paths = _paths(result.plan)
+    ops = sorted(result.achieves, key=lambda o: o.lo)
+    again = [(a, b) for i, a in enumerate(ops) for b in ops[i + 1:] if a.base & b.base]
+    assert again
+    for a, b in again:
+        assert _ordered(paths[a.name], paths[b.name]), (a.name, b.name)
