@@ -37,6 +37,9 @@ FACES = {(0, -1): "west", (0, 1): "east", (1, -1): "south", (1, 1): "north"}
 ROOM_LIMIT_MM = 60.0  # how far from its contact a block may be set down for a push
 
 
+PUSH = "push"  # the place kind whose fine motion slides the released block with closed jaws
+
+
 @dataclass(frozen=True)
 class Alignment:
     """Faces of ``subject`` and ``partner`` coplanar along ``axis`` on ``side`` (-1 low, +1
@@ -213,7 +216,7 @@ def _push(focus: str, goal: Vec, axis: int, offset: float, toward: int,
                                      room, rules)
                 boxes = [_closed_jaws(p, axis, rules) for p in (start, end)]
                 if jaws.hit(boxes, model, ignore, 2 * rules.jaw_clearance) is None:
-                    return PlacePlan("push", goal, spot, start, end)
+                    return PlacePlan(PUSH, goal, spot, start, end)
         room += jaws.STEP_MM
     return None
 

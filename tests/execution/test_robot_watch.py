@@ -14,6 +14,7 @@ import pytest
 from lbw_engine.cli import main
 from lbw_engine.do.opcheck import (
     PLACE_MM,
+    PUSHED,
     SET_ASIDE,
     Op,
     differences,
@@ -71,6 +72,15 @@ CASES = [
                  [Op("PICK", "unused:1", "follow"),
                   Op("PLACE-ON-TABLE", "unused:1", "place", (1.0, 50.0)), P, T], [], set(),
                  id="set-aside-seen-under-another-name"),
+    # a block the closed jaws push into contact after its place may be seen taken again
+    # (helper round 10, x27), or not at all; either is no difference
+    pytest.param([P, T, Op(PUSHED, "a", "follow"), Op(PUSHED, "a", "place")],
+                 [P, T, Op("PICK", "a", "follow")], [], set(), id="push-seen-as-a-pick"),
+    pytest.param([P, T, Op(PUSHED, "a", "follow"), Op(PUSHED, "a", "place")], [P, T], [],
+                 set(), id="push-unseen"),
+    pytest.param([P, T, Op(PUSHED, "a", "follow"), Op(PUSHED, "a", "place")],
+                 [P, T, Op("PICK", "c", "follow")], [("a", "pushed a", "PICK c")], set(),
+                 id="push-of-another-block-is-one"),
 ]
 
 

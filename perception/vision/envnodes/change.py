@@ -240,8 +240,12 @@ class ChangeNode(EnvNodeBase):
                   and not self.sights.still_there(act, env, shot, last)):
                 result = DISAPPEARED
             elif (not act.special and first.get("empty", before) <= EMPTY and targets
-                  and self.seen(targets[0], env) is False):
-                result = DISAPPEARED  # a view that sees its place plainly shows it empty
+                  and held <= EMPTY and self.seen(targets[0], env) is False):
+                # too small for the holder window to show it held, and a view that sees
+                # its place plainly shows it empty (a block the window could show held
+                # is not picked for that alone: the robot's push into contact slides
+                # one off its place with closed jaws, helper round 10, x27)
+                result = DISAPPEARED
         let_go, found = self.hand.let_go(act.since), ()
         if result == APPEARED and top is not None:
             pos = top  # x and y from above; nothing better to fit it to
