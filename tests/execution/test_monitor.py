@@ -168,11 +168,13 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
                                   "tower-behind-a-tall-post.yaml",
                                   "narrow-block-touching-a-cube.yaml", "cube-moved-twice.yaml",
                                   "l-of-cubes-pushed-into-contact.yaml",
-                                  "tower-goal-against-a-cube.yaml"],
+                                  "tower-goal-against-a-cube.yaml",
+                                  "set-aside-in-front-of-a-taller-block.yaml"],
                          ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside",
                               "withdraw-beside-a-block", "post-the-plan-leaves-alone",
                               "pick-beside-a-touching-block", "picked-where-just-put",
-                              "pushed-into-contact", "picked-against-a-goal"])
+                              "pushed-into-contact", "picked-against-a-goal",
+                              "picked-before-a-taller-block"])
 def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     """Fault-free runs of users' scenarios (helper round 4): the monitor must not see a
     difference and redo an ACHIEVE (search.py leaving; matching.py _covered). Helper

@@ -63,7 +63,7 @@ HOLD_SHARE = 0.35  # of the share a held block's image covers: a small block hel
 MIN_CHANGE_PX = 6
 LOAD_MM = 3.0  # the carried block's outline grown by this (tremor, tracking)
 HIDDEN = 0.5  # a released block shows less of its side outline: its height is unseen
-BESIDE_MM = 6.0  # a block this close beside a picked target may be the one the hand took
+BESIDE_MM = 10.0  # a block this close beside a picked target may be the one the hand took
 
 class ChangeNode(EnvNodeBase):
     """SilDiff: change-detector snapshots of a motion's target region (Sec. III-D1)."""
@@ -196,6 +196,7 @@ class ChangeNode(EnvNodeBase):
         # one the env model allows (a cube set down behind a tower was placed at the
         # centre of what vanished, 32 mm off: helper round 8, v11)
         pos, top = det.target() if det.result == result else None, None
+        taken: tuple[str, ...] = ()  # a block beside the target that left with the hand
         if result == NO_CHANGE:
             # The region may be hidden at the end (the palm above it in the top view, a block
             # in front of it in the side view); the holder window between the fingers
@@ -239,6 +240,13 @@ class ChangeNode(EnvNodeBase):
                   and self.holder.in_hand(lift, env) >= held
                   and not self.sights.still_there(act, env, shot, last)):
                 result = DISAPPEARED
+            elif (not act.special and first.get("empty", before) <= EMPTY
+                  and (taken := self.lifted(act, env, hidden=True))
+                  and self.holds(env.nodes[taken[0]], env)):
+                # the target stands unmoved, and a block beside it left with the hand: the
+                # search named a taller neighbour 8 mm behind the cube the robot took
+                # (helper round 10, v06x: a cube set aside in front of a 40 mm one)
+                result = DISAPPEARED
             elif (not act.special and first.get("empty", before) <= EMPTY and targets
                   and held <= EMPTY and self.seen(targets[0], env) is False):
                 # too small for the holder window to show it held, and a view that sees
@@ -276,18 +284,21 @@ class ChangeNode(EnvNodeBase):
                                       held[0].size,
                                       np.inf if hidden else float(released[1].lo[2]), moving)
         if result == DISAPPEARED and not act.special:
-            found = self.lifted(act, env)
+            found = taken or self.lifted(act, env)
         return Detection(value=result, found=found,
                          position=tuple(float(c) for c in pos) if pos is not None else None)
 
-    def lifted(self, act: ActView, env: EnvModel) -> tuple[str, ...]:
+    def lifted(self, act: ActView, env: EnvModel, hidden: bool = False) -> tuple[str, ...]:
         """The block of the target's stack that the hand really took, () if the target.
 
         At :Near the hand may be as close to a rider's centre as to its plank's (a cube
         centred on it), and the search then names the rider. Picking a block takes what
         rests on it along: if the block the target rests on (alone) is plainly gone from
         its place too, that one was picked, and so on down. If the target is plainly still
-        there, the one block resting on it or standing beside it that is plainly gone was.
+        there, the one block resting on it or standing beside it that is plainly gone was
+        (``hidden``: that is not plainly there, when the holder window shows the hand
+        holding a block of its size; a block picked in front of a taller one is hidden
+        from the side by it, from above by the hand).
         """
         targets = targets_of(act, env)
         if len(targets) != 1:
@@ -317,8 +328,17 @@ class ChangeNode(EnvNodeBase):
                                       -BESIDE_MM)]
         if not riders + beside or self.seen(target, env) is not True:
             return ()
-        gone = [n for n in riders + beside if self.seen(n, env) is False]
+        gone = [n for n in riders + beside
+                if self.seen(n, env) in ((False, None) if hidden else (False,))]
         return (gone[0].name,) if len(gone) == 1 else ()
+
+    def holds(self, node: EnvNode, env: EnvModel) -> bool:
+        """Whether the holder window shows the hand holding a block of ``node``'s size."""
+        if self.hand.hand is None or node.size is None:
+            return False
+        lift = Region3D.around(self.hand.hand, node.size)
+        fill = self.holder.visible_fill((node, lift), env)
+        return self.holder.in_hand(lift, env) >= min(HOLDING, max(EMPTY, HOLD_SHARE * fill))
 
     def seen(self, node: EnvNode, env: EnvModel) -> bool | None:
         """Whether a block is still where the environment model has it (``seen_at``)."""
