@@ -272,7 +272,7 @@ class Recognizer:
         (with ``before``: only those that ended before it, its earlier siblings).
 
         A motion made by a :next transition from one classified late had its slots
-        bound from the environment model before that one's effect: they are bound
+        bound from the environment model before that one's effect: those are bound
         again, and its initial state copied again (a motion begun while the one
         before it waited to be judged still named the block set down there).
         """
@@ -290,8 +290,11 @@ class Recognizer:
         if after is None or after.origin is None or after.origin[1] is not node:
             return
         row, _, detection = after.origin
-        for slot, names in self._bind(row, node, detection).items():
-            setattr(after, slot, names)
+        # only slots bound from the environment model (``held``): the others may have
+        # been set since (a target closed to what the motion's ending event found)
+        for slot, binding in row.slots.items():
+            if "held" in binding:
+                setattr(after, slot, actmodel.resolve(binding, node, self.env, detection))
         after.initial_state = self.env.snapshot(self.env.nodes)
 
     def _classify(self, node: ActNode, lasts: dict[str, Any]) -> None:

@@ -122,11 +122,13 @@ def test_a_motion_judged_late_rebinds_the_one_after_it(pending_until, judged_at)
     """A place whose end the detector cannot judge yet (the hand hides it) is classified
     later, at the latest when the motion after it ends, and before it; the Transfer begun
     in between was bound while the env model still had b1 in the hand: it is bound again
-    (no special) and classified a REACH, not a REACH-WITH-OBJ."""
+    (no special) and classified a REACH, not a REACH-WITH-OBJ; its target, closed at its
+    :Near, stays (lbw bench 1264)."""
     rec = _deferred_place(pending_until, judged_at)
     place, reach = rec.root.history[-2:]
     assert (place.operation, place.special, place.target) == ("PLACE-ON-BLOCK", ("b1",), ("b2",))
     assert (reach.operation, reach.special) == ("REACH", ())
+    assert reach.target == ("b1",)  # closed to what its :Near found, not bound again
     assert not rec.deferred and rec.env.held() == ()
     assert ("holding", "hand", "b1") not in {tuple(r.to_json()[:3])
                                              for r in reach.initial_state.relations}
