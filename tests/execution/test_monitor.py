@@ -256,6 +256,10 @@ QUIET_RUNS = [
      "side, 0.04 of the holder window, the palm over it; judged once the gripper left"),
     (1120, "nominal", "small", 0, "10 mm cubes: the holder window showed 0.09 of a held "
      "one, under EMPTY; a place is seen where the hand let go of it, by its creases"),
+    (1156, "nominal", "small", 0, "a 19 mm cube picked from against another: the one "
+     "behind showed through, and the change fell short of what the pick could make"),
+    (1050, "nominal", "small", 0, "15 mm cubes set against each other along x: gripped "
+     "off centre, and carried in the traced model too"),
 ]
 
 
