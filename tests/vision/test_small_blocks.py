@@ -74,14 +74,16 @@ def test_a_place_of_a_small_or_tall_block_is_seen(make, noise):
 # (the side camera looks along +y); the palm hides it from above at the pick's end. Bench
 # seed 1157 (small, 2x), whose cube stood here: part of its side outline was hidden, its
 # pick changed less of the window than is asked of a cube in plain view, and was read as a
-# NO-OP. (id, the stack's (x, y) offset from the cube, its threshold lower than in view)
+# NO-OP. A stack behind it shows through where it was: lbw bench 1156, a 19 mm cube picked
+# from against another, changed 0.096 of the window where 0.12 was asked. (id, the stack's
+# (x, y) offset from the cube, whether the pick is missed when asked as much as in view)
 AT = (-160.0, 188.0)
 PICK_BEHIND = [("stack-in-front", (-3.0, -40.0), True), ("stack-behind", (-3.0, 40.0), False)]
 
 
-@pytest.mark.parametrize("off,lower", [c[1:] for c in PICK_BEHIND],
+@pytest.mark.parametrize("off,missed", [c[1:] for c in PICK_BEHIND],
                          ids=[c[0] for c in PICK_BEHIND])
-def test_a_pick_of_a_small_cube_partly_hidden_in_front_is_seen(off, lower):
+def test_a_pick_of_a_small_cube_partly_hidden_in_front_is_seen(off, missed):
     size = (17.0, 17.0, 17.0)
     x, y = AT[0] + off[0], AT[1] + off[1]
     stack = [block(x, y, size), block(x, y, size, 17)]
@@ -96,12 +98,12 @@ def test_a_pick_of_a_small_cube_partly_hidden_in_front_is_seen(off, lower):
     first = det.take(film.shoot(start))
     last = det.take(film.shoot(end))
     plain = node.threshold(first, size)
-    front = [Region3D.around(b.center, b.size) for b in stack if b.center[1] < AT[1]]
-    det.area_threshold = node.threshold(first, size, front=front)
-    assert (det.area_threshold < plain) == lower
+    others = [Region3D.around(b.center, b.size) for b in stack]
+    det.area_threshold = node.threshold(first, size, others=others)
+    assert det.area_threshold < plain
     assert det.judge(first, last) == "vanished"
-    det.area_threshold = plain  # asked as much as of a cube in plain view, it is missed
-    assert (det.judge(first, last) == "nochange") == lower
+    det.area_threshold = plain  # asked as much as of a cube in plain view
+    assert (det.judge(first, last) == "nochange") == missed
 
 
 def test_nothing_appears_where_nothing_was_put():
