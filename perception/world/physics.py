@@ -114,13 +114,41 @@ class World:
             shape.gripper = gripper
 
     def displace(self, name: str, by: tuple[float, float]) -> None:
-        """Slide a block by (dx, dy) mm (a fault, perception/world/faults.py); riders may fall."""
+        """Slide a block by (dx, dy) mm, along y then x (a fault, perception/world/
+        faults.py); riders may fall. The slide stops where the block meets another one
+        (pymunk has no y: set down through a post along y, a cube stood inside it, and
+        the cameras read the two as one block, so both were 'gone': helper round 10, z07).
+        """
         body = self.shapes[name].body
+        self.y[name] += self._free_run(name, 1, float(by[1]))
         x, z = body.position
-        body.position = (x + float(by[0]), z)
-        self.y[name] += float(by[1])
+        body.position = (x + self._free_run(name, 0, float(by[0])), z)
         self.space.reindex_shapes_for_body(body)
         self._wake()
+
+    def _free_run(self, name: str, axis: int, d: float) -> float:
+        """How far (signed, at most ``d``) ``name`` slides along x (0) or y (1) before it
+        meets a block overlapping it on the two other axes."""
+        if d == 0.0:
+            return 0.0
+        bb = self.shapes[name].bb
+        lo, hi = self.extent(name, axis)
+        other_axis = 1 - axis  # of x and y
+        out = d
+        for n in self.names:
+            if n == name:
+                continue
+            ob = self.shapes[n].bb
+            olo, ohi = self.extent(n, axis)
+            (a0, a1), (b0, b1) = self.extent(name, other_axis), self.extent(n, other_axis)
+            if min(bb.top, ob.top) - max(bb.bottom, ob.bottom) <= SLOP or \
+                    min(a1, b1) - max(a0, b0) <= SLOP:
+                continue  # not level with it, or beside its path: never met
+            if d > 0 and olo >= hi - SLOP:
+                out = min(out, max(0.0, olo - hi))
+            elif d < 0 and ohi <= lo + SLOP:
+                out = max(out, min(0.0, ohi - lo))
+        return out
 
     def remove_block(self, name: str) -> None:
         """Take a block out of the world (a fault); what rested on it falls."""

@@ -201,3 +201,24 @@ def test_a_drop_fires_past_the_carry_peak_whichever_way_it_goes(along):
     world.carry(400.0, along)  # past the peak: let go
     inj.on_step(world)
     assert [f["kind"] for f in inj.injected] == ["drop"]
+
+
+# (id, where the brick stands, how far it is slid, where its centre stops (x, y)): the
+# plank p spans x 20..180 and y 270..330; the brick is 30 x 30
+SLIDES = [("along-y-into-the-plank", (100.0, 100.0), (0.0, 250.0), (100.0, 270.0 - 15.0)),
+          ("along-x-into-the-plank", (-100.0, 300.0), (150.0, 0.0), (20.0 - 15.0, 300.0))]
+
+
+@pytest.mark.parametrize("at, by, stops", [c[1:] for c in SLIDES], ids=[c[0] for c in SLIDES])
+def test_a_displaced_block_slides_to_the_first_block_in_its_way(at, by, stops):
+    """An outside agent slides a block; it stops where it meets another, never inside it
+    (helper round 10, z07: a cube slid along y into a post stood inside it, pymunk having
+    no y, and the cameras read the two as one, both 'gone')."""
+    sc = load_text(HEAD.replace("x: {shape: brick, at: [-100, 100]}",
+                                f"x: {{shape: brick, at: [{at[0]:g}, {at[1]:g}]}}"), "f.yaml")
+    world = World(sc.execute.objects.values())
+    world.settle(0.3)
+    world.displace("x", by)
+    world.settle(0.5)
+    x, y, _ = world.positions()["x"]
+    assert (x, y) == (pytest.approx(stops[0], abs=1.0), pytest.approx(stops[1], abs=1.0))
