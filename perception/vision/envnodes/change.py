@@ -220,7 +220,10 @@ class ChangeNode(EnvNodeBase):
             held = HOLDING if fill is None else min(HOLDING, max(EMPTY, HOLD_SHARE * fill))
             if act.special and before > EMPTY and before >= held and emptied:
                 result = APPEARED
-            elif act.special and emptied and landed:
+            elif act.special and emptied and landed and (before > EMPTY or held <= EMPTY):
+                # where it was let go, if the hand brought it (or the window cannot show
+                # it held): a block dropped on the way can land there too (fault bench
+                # 3000, a plate dropped beside its goal, must be seen as not placed)
                 result = APPEARED
             elif act.special and emptied and \
                     shade_change(shot, last) >= det.area_threshold:
