@@ -171,10 +171,10 @@ class ChangeNode(EnvNodeBase):
         # ... and where the hand let it go, set on the target, the side view sees a block
         # plainly that no known object explains (a 10 mm cube set on another shows 0.06
         # of the holder window, within an empty hand's noise: helper round 9, w83)
-        dropped = self.hand.held_box(env, at=self.hand.let_go(act.since), spot=True) \
+        set_down = self.hand.held_box(env, at=self.hand.let_go(act.since), spot=True) \
             if place and not kept else None
-        landed = dropped is not None and self.sights.seen_at(
-            settled(dropped[1], act, env), {dropped[0].name}, env, creases=True) is True
+        landed = set_down is not None and self.sights.seen_at(
+            settled(set_down[1], act, env), {set_down[0].name}, env, creases=True) is True
         det.attention(shot.region)
         det.area_threshold = self.threshold(shot, first["size"], place=place,
                                             others=() if place else self.in_sight(act, env))
