@@ -114,17 +114,30 @@ class World:
             shape.gripper = gripper
 
     def displace(self, name: str, by: tuple[float, float]) -> None:
-        """Slide a block by (dx, dy) mm, along y then x (a fault, perception/world/
-        faults.py); riders may fall. The slide stops where the block meets another one
-        (pymunk has no y: set down through a post along y, a cube stood inside it, and
-        the cameras read the two as one block, so both were 'gone': helper round 10, z07).
+        """Move a block by (dx, dy) mm (a fault, perception/world/faults.py); riders may
+        fall. Where another block stands in the way of its new place, its move along y
+        stops where it meets it: pymunk, which parts blocks overlapping in x-z, has no y
+        (moved into a post along y, a cube stood inside it, and the cameras read the two
+        as one block, so both were 'gone': helper round 10, z07).
         """
         body = self.shapes[name].body
-        self.y[name] += self._free_run(name, 1, float(by[1]))
         x, z = body.position
-        body.position = (x + self._free_run(name, 0, float(by[0])), z)
+        clear = self._lands_clear(name, float(by[0]), float(by[1]))
+        self.y[name] += float(by[1]) if clear else self._free_run(name, 1, float(by[1]))
+        body.position = (x + float(by[0]), z)  # pymunk parts blocks overlapping in x-z
         self.space.reindex_shapes_for_body(body)
         self._wake()
+
+    def _lands_clear(self, name: str, dx: float, dy: float) -> bool:
+        """Whether ``name`` moved by (dx, dy) meets no other block."""
+        bb, (y0, y1) = self.shapes[name].bb, self.extent(name, 1)
+        for n in self.names:
+            ob, (b0, b1) = self.shapes[n].bb, self.extent(n, 1)
+            if n != name and min(bb.right + dx, ob.right) - max(bb.left + dx, ob.left) > SLOP \
+                    and min(y1 + dy, b1) - max(y0 + dy, b0) > SLOP \
+                    and min(bb.top, ob.top) - max(bb.bottom, ob.bottom) > SLOP:
+                return False
+        return True
 
     def _free_run(self, name: str, axis: int, d: float) -> float:
         """How far (signed, at most ``d``) ``name`` slides along x (0) or y (1) before it
