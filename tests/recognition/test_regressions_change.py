@@ -57,7 +57,7 @@ def test_a_step_set_off_its_support_is_measured_where_it_stands():
 
 
 @pytest.mark.parametrize("name", ["tower-behind-a-tall-post", "touch-behind-a-post",
-                                  "row-x-behind-a-tower"])
+                                  "row-x-behind-a-tower", "tower-beside-a-tall-post"])
 def test_what_a_tall_block_in_front_hides_is_judged_once_the_hand_has_left(name):
     """Places and a touch behind a taller block (helper round 8, v06, v59, v11): the
     block fills the holder window and the palm hides the spot from above, so the

@@ -220,10 +220,12 @@ class ChangeNode(EnvNodeBase):
             held = HOLDING if fill is None else min(HOLDING, max(EMPTY, HOLD_SHARE * fill))
             if act.special and before > EMPTY and before >= held and emptied:
                 result = APPEARED
-            elif act.special and emptied and landed and (before > EMPTY or held <= EMPTY):
-                # where it was let go, if the hand brought it (or the window cannot show
-                # it held): a block dropped on the way can land there too (fault bench
-                # 3000, a plate dropped beside its goal, must be seen as not placed)
+            elif act.special and emptied and landed:
+                # where it was let go. A block dropped on the way that landed there reads
+                # as placed too (fault bench 3000: a plate dropped beside its goal, which
+                # the cameras then verify); asking that the holder window saw it held at
+                # the start lost a 30 mm cube set on a tower beside a 150 mm post, which
+                # showed 0.06 of the window (helper round 10, y10)
                 result = APPEARED
             elif act.special and emptied and \
                     shade_change(shot, last) >= det.area_threshold:
