@@ -123,7 +123,7 @@ class World:
         body = self.shapes[name].body
         x, z = body.position
         clear = self._lands_clear(name, float(by[0]), float(by[1]))
-        self.y[name] += float(by[1]) if clear else self._free_run(name, 1, float(by[1]))
+        self.y[name] += float(by[1]) if clear else self._free_run_y(name, float(by[1]))
         body.position = (x + float(by[0]), z)  # pymunk parts blocks overlapping in x-z
         self.space.reindex_shapes_for_body(body)
         self._wake()
@@ -139,27 +139,19 @@ class World:
                 return False
         return True
 
-    def _free_run(self, name: str, axis: int, d: float) -> float:
-        """How far (signed, at most ``d``) ``name`` slides along x (0) or y (1) before it
-        meets a block overlapping it on the two other axes."""
-        if d == 0.0:
-            return 0.0
-        bb = self.shapes[name].bb
-        lo, hi = self.extent(name, axis)
-        other_axis = 1 - axis  # of x and y
-        out = d
+    def _free_run_y(self, name: str, dy: float) -> float:
+        """How far (signed, at most ``dy``) ``name`` slides along y before it meets a block
+        overlapping it in x-z."""
+        bb, (lo, hi) = self.shapes[name].bb, self.extent(name, 1)
+        out = dy
         for n in self.names:
-            if n == name:
-                continue
-            ob = self.shapes[n].bb
-            olo, ohi = self.extent(n, axis)
-            (a0, a1), (b0, b1) = self.extent(name, other_axis), self.extent(n, other_axis)
-            if min(bb.top, ob.top) - max(bb.bottom, ob.bottom) <= SLOP or \
-                    min(a1, b1) - max(a0, b0) <= SLOP:
+            ob, (olo, ohi) = self.shapes[n].bb, self.extent(n, 1)
+            if n == name or min(bb.top, ob.top) - max(bb.bottom, ob.bottom) <= SLOP or \
+                    min(bb.right, ob.right) - max(bb.left, ob.left) <= SLOP:
                 continue  # not level with it, or beside its path: never met
-            if d > 0 and olo >= hi - SLOP:
+            if dy > 0 and olo >= hi - SLOP:
                 out = min(out, max(0.0, olo - hi))
-            elif d < 0 and ohi <= lo + SLOP:
+            elif dy < 0 and ohi <= lo + SLOP:
                 out = max(out, min(0.0, ohi - lo))
         return out
 

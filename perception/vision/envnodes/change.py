@@ -136,7 +136,7 @@ class ChangeNode(EnvNodeBase):
                 return False
             lift = (targets[0], Region3D.around(self.hand.hand, targets[0].size))
             fill, spot = self.holder.visible_fill(lift, env), box(targets[0])
-        return spot is not None and fill is not None and HOLD_SHARE * fill <= EMPTY \
+        return spot is not None and fill is not None and held_bar(fill) <= EMPTY \
             and self.sights.palm_over(spot)
 
     def pending(self, last: Any) -> bool:
@@ -217,7 +217,7 @@ class ChangeNode(EnvNodeBase):
             fill = first.get("fill")
             if fill is None and (load is not None or lift is not None):
                 fill = self.hand.held_fill(load[1] if load else lift)
-            held = HOLDING if fill is None else min(HOLDING, max(EMPTY, HOLD_SHARE * fill))
+            held = HOLDING if fill is None else held_bar(fill)
             if act.special and before > EMPTY and before >= held and emptied:
                 result = APPEARED
             elif act.special and emptied and landed:
@@ -343,7 +343,7 @@ class ChangeNode(EnvNodeBase):
             return False
         lift = Region3D.around(self.hand.hand, node.size)
         fill = self.holder.visible_fill((node, lift), env)
-        return self.holder.in_hand(lift, env) >= min(HOLDING, max(EMPTY, HOLD_SHARE * fill))
+        return self.holder.in_hand(lift, env) >= held_bar(fill)
 
     def seen(self, node: EnvNode, env: EnvModel) -> bool | None:
         """Whether a block is still where the environment model has it (``seen_at``)."""
@@ -392,3 +392,9 @@ class ChangeNode(EnvNodeBase):
             if total:
                 share *= max(MIN_CHANGE_PX, int((outline & ~hidden).sum())) / total
         return float(min(AREA_THRESHOLD, share / 3.0))
+
+
+def held_bar(fill: float) -> float:
+    """The least block fraction of the holder window that shows a block held, for a block
+    whose image fills ``fill`` of it: HOLD_SHARE of that, between EMPTY and HOLDING."""
+    return min(HOLDING, max(EMPTY, HOLD_SHARE * fill))

@@ -43,22 +43,14 @@ class HolderView:
         Only "is the hand empty?" asks this: a held block in front of a known object
         would lose its pixels there ("is it holding?" is ``in_hand``).
         """
-        clear = self.clear(act, env)
-        if clear is None:
-            return self.hand.tracker.holding_evidence
-        sub = self.hand.tracker.holder.window.read(self.hand.sight.frame.view("side"))
-        return float(((sub >= BLOCK_MIN) & clear).sum()) / float(clear.sum())
+        return self._share(self.clear(act, env))
 
     def clear(self, act: ActView, env: EnvModel) -> np.ndarray | None:
         """The window's pixels where no known object but the motion's own projects
         (``unexplained``); None when they are fewer than HOLDER_CLEAR of it: the side
         view then sees those objects, not the hand's load."""
-        if self.hand.sight.frame is None:
-            return None
-        window = self.hand.tracker.holder.window
         own = set(env.held()) | {n.name for n in env.get(act.target)}
-        clear = ~regions_mask(self.hand.sight.cameras["side"], boxes_but(env, own), window)
-        return None if clear.sum() < HOLDER_CLEAR * clear.size else clear
+        return self._clear_of(boxes_but(env, own))
 
     def in_hand(self, load: Region3D | None, env: EnvModel) -> float:
         """Block fraction of the window, leaving out where known objects nearer the side
@@ -66,16 +58,24 @@ class HolderView:
         themselves (an empty hand rising behind a 120 mm post read as holding the cube it
         had touched, helper round 8, v59). Objects behind it stay in: a held block
         covers them."""
-        evidence = self.hand.tracker.holding_evidence
-        frame = self.hand.sight.frame
-        if frame is None or load is None:
-            return evidence
+        if load is None:
+            return self.hand.tracker.holding_evidence
+        return self._share(self._clear_of(nearer(float(load.lo[1]), env)))
+
+    def _clear_of(self, boxes: list[Region3D]) -> np.ndarray | None:
+        """The window's pixels where none of ``boxes`` projects; None without a frame, or
+        when they are fewer than HOLDER_CLEAR of the window."""
+        if self.hand.sight.frame is None:
+            return None
         window = self.hand.tracker.holder.window
-        front = nearer(float(load.lo[1]), env)
-        clear = ~regions_mask(self.hand.sight.cameras["side"], front, window)
-        if clear.sum() < HOLDER_CLEAR * clear.size:
-            return evidence
-        sub = window.read(frame.view("side"))
+        clear = ~regions_mask(self.hand.sight.cameras["side"], boxes, window)
+        return None if clear.sum() < HOLDER_CLEAR * clear.size else clear
+
+    def _share(self, clear: np.ndarray | None) -> float:
+        """Block fraction of the window's ``clear`` pixels; with none, the whole window's."""
+        if clear is None:
+            return self.hand.tracker.holding_evidence
+        sub = self.hand.tracker.holder.window.read(self.hand.sight.frame.view("side"))
         return float(((sub >= BLOCK_MIN) & clear).sum()) / float(clear.sum())
 
     def visible_fill(self, held: tuple[EnvNode, Region3D], env: EnvModel) -> float:
