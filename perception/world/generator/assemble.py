@@ -100,26 +100,33 @@ def draw(rng: np.random.Generator, family: str) -> Draft:
                  touches, blocker, touching)
 
 
+def _alone(layout: dict) -> list[str]:
+    """Objects lying on the table with nothing on them, sorted by name."""
+    return sorted(n for n, w in layout.items() if len(w) == 2
+                  and not any(v == (n,) for v in layout.values()))
+
+
+def _footprints(layout: dict, objects: dict, shapes: dict, but: set[str]) -> list[tuple]:
+    """Footprints of the objects on the table, but ``but``."""
+    return [footprint(w[0], w[1], shapes[objects[n]][0], shapes[objects[n]][1])
+            for n, w in layout.items() if len(w) == 2 and n not in but]
+
+
 def _block_a_goal(rng: np.random.Generator, layout: dict, objects: dict, shapes: dict,
                   taken: list) -> str | None:
     """Move one execution object lying alone on the table to the middle of where a
     structure is built (helper round 5, t15 and t29: a plate lying where its legs go, a
     disk on the goal spot): the robot must set it aside first. Nothing moves when the
     spot would meet another object. Returns the object moved, if one was."""
-    alone = sorted(n for n, w in layout.items() if len(w) == 2
-                   and not any(v == (n,) for v in layout.values()))
+    alone = _alone(layout)
     if not alone or not taken:
         return None
     name = alone[int(rng.integers(len(alone)))]
     x0, x1, y0, y1 = taken[int(rng.integers(len(taken)))]
     cx, cy = round((x0 + x1) / 2), round((y0 + y1) / 2)
     size = shapes[objects[name]]
-    others = []
-    for n, w in layout.items():
-        if n != name and len(w) == 2:
-            s = shapes[objects[n]]
-            others.append(footprint(w[0], w[1], s[0], s[1]))
-    if not clear(footprint(cx, cy, size[0], size[1]), others):
+    if not clear(footprint(cx, cy, size[0], size[1]),
+                 _footprints(layout, objects, shapes, {name})):
         return None
     layout[name] = (float(cx), float(cy))
     return name
@@ -133,8 +140,7 @@ def _touch_a_neighbour(rng: np.random.Generator, layout: dict, objects: dict, sh
     a repair must turn the wrist from where it is. Nothing moves when the new spot is not
     clear of the rest, or a block could be gripped across neither side. Returns the
     object moved and the one it touches, if one was moved."""
-    alone = sorted(n for n, w in layout.items() if len(w) == 2
-                   and not any(v == (n,) for v in layout.values()))
+    alone = _alone(layout)
     if len(alone) < 2:
         return None
     i, j = (int(k) for k in rng.choice(len(alone), 2, replace=False))
@@ -147,9 +153,8 @@ def _touch_a_neighbour(rng: np.random.Generator, layout: dict, objects: dict, sh
     at[axis] += side * (sa[axis] + sb[axis]) / 2
     slide = int(min(sa[1 - axis], sb[1 - axis]) // 4)
     at[1 - axis] += float(rng.integers(-slide, slide + 1))
-    others = [footprint(w[0], w[1], shapes[objects[n]][0], shapes[objects[n]][1])
-              for n, w in layout.items() if len(w) == 2 and n not in (a, b)]
-    if not clear(footprint(at[0], at[1], sa[0], sa[1]), others + list(taken)):
+    if not clear(footprint(at[0], at[1], sa[0], sa[1]),
+                 _footprints(layout, objects, shapes, {a, b}) + list(taken)):
         return None
     layout[a] = (at[0], at[1])
     return a, b
