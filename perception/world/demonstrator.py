@@ -62,6 +62,7 @@ class Segment:
     p1: Vec3
     arc: float = 0.0  # mm added to z at mid-path (transfers go high over the table)
     action: tuple = ()  # ("open", width) | ("close",) | ("present", bool) | ("turn", axis)
+    #                   | ("soft", bool)
     quiet: bool = False  # tremor reduced (fine motions)
     lateral: str = ""  # "early": sideways part done first (approach), "late": last (depart)
     steady: float = -math.inf  # hand z under which the approach shakes as little as fine motions
@@ -88,16 +89,23 @@ class _Planner:
         self.segs: list[Segment] = [Segment("absent", -1, 0.0, ABSENT, ENTRY, ENTRY)]
         self.pending: tuple = ("present", True)
         self.axis = 0  # the jaws close along x until a hold needs y (the hand starts so)
+        self.soft = False  # the fingertips squeeze in (hand.Gripper.soft)
 
     def wrist(self, i: int, size: Vec3) -> tuple:
         """Pre-shape actions for the pick or touch at step ``i``: turn the wrist (empty
         hand, during the transfer) when the other side has room and this one has not
-        (perception.world.wrist), then open the fingers for the block."""
+        (perception.world.wrist), then open the fingers for the block. Where neither
+        side has room (a corner of a grid of blocks a few mm apart), the fingertips
+        squeeze in: a rigid finger would shove the neighbours (helper round 10, z04:
+        a finished row pushed 40 mm)."""
         axis = hold_axis(self.sc, i)
         turn: tuple = ()
         if axis is not None and axis != self.axis:
             turn, self.axis = ("turn", axis), axis
-        return turn + ("open", pre_shape(size, axis=self.axis))
+        if (axis is None) != self.soft:
+            self.soft = axis is None
+            turn += ("soft", self.soft)
+        return turn + ("open", pre_shape(size, axis=self.axis, soft=self.soft))
 
     def factor(self) -> float:
         """Random speed factor of one motion (noise.speed)."""
@@ -194,7 +202,7 @@ class _Planner:
                         fine.append(("fine", _add(point, (0, 0, held_dz + HOVER)), V_SLIDE, (),
                                      0.5))
                 fine.append(("fine", fine[-1][1] if fine else grip, 1.0,
-                             ("open", pre_shape(size, axis=self.axis)), 0.6))
+                             ("open", pre_shape(size, axis=self.axis, soft=self.soft)), 0.6))
                 self.local(i, grip, support_top, carried, (), fine)
                 beside = _beside_top(lay, step.obj, dest, size)
                 if beside is not None:  # hand z where the block's bottom passes their tops
@@ -347,6 +355,9 @@ class Demonstration:
                 k += 1
             elif action[k] == "turn":
                 self.hand.turn(action[k + 1])
+                k += 2
+            elif action[k] == "soft":
+                self.hand.soft = action[k + 1]
                 k += 2
             else:  # "present": the hand comes into / goes out of the workspace
                 self.hand.present = action[k + 1]

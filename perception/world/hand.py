@@ -42,6 +42,7 @@ Vec3 = tuple[float, float, float]
 TIP = 10.0  # mm the fingers reach below the grip centre
 CONTACT = 1.0  # mm: a finger this close to a block's side touches it
 CLEARANCE = 12.0  # mm per side the demonstrator leaves when pre-shaping the hand
+SOFT_CLEARANCE = 2.0  # mm per side when the fingertips squeeze into a tight spot
 
 
 @dataclass(frozen=True)
@@ -65,11 +66,12 @@ def grasp_offset(size: Vec3) -> float:
     return max(h / 2 - min(h / 2, 30.0), TIP + 1.0 - h / 2)
 
 
-def pre_shape(size: Vec3, geometry: GripperGeometry | None = None, axis: int = 0) -> float:
+def pre_shape(size: Vec3, geometry: GripperGeometry | None = None, axis: int = 0,
+              soft: bool = False) -> float:
     """Finger opening used when approaching a block of this size (jaws closing along
-    ``axis``)."""
+    ``axis``); fingertips squeezing into a tight spot (``soft``) open only a little."""
     g = geometry or GripperGeometry()
-    return min(g.max_opening, size[axis] + 2 * CLEARANCE)
+    return min(g.max_opening, size[axis] + 2 * (SOFT_CLEARANCE if soft else CLEARANCE))
 
 
 class Gripper:
@@ -95,6 +97,10 @@ class Gripper:
         self.target: Vec3 = tuple(map(float, position))
         self.opening = self.target_opening = min(opening, g.max_opening)
         self.axis = 0  # the jaws close along world x (0) or y (1): the wrist's turn
+        # A person's fingertips squeeze into a gap narrower than a finger (wrist.py: a hold
+        # with no room on either axis): soft fingers push no block, and close only on one
+        # that lies wholly between them.
+        self.soft = False
         self.world = None
         self.fingers = self._make_fingers()
         self._place_fingers(0.0)

@@ -179,7 +179,8 @@ class World:
         return shape.gripper.finger_y_range(shape.side)
 
     def _filter(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
-        """Ignore contacts of bodies apart in y, and of fingers with the block they hold."""
+        """Ignore contacts of bodies apart in y, of fingers with the block they hold, and of
+        soft fingers (a person's, in a tight spot: hand.py) with any block."""
         a, b = arbiter.shapes
         ya, yb = self._y_range(a), self._y_range(b)
         if min(ya[1], yb[1]) - max(ya[0], yb[0]) <= Y_TOUCH:
@@ -187,7 +188,7 @@ class World:
             return
         for finger, block in ((b, a), (a, b)):
             g = getattr(finger, "gripper", None)
-            if g is not None and g.holding == block.block:
+            if g is not None and (g.soft or g.holding == block.block):
                 arbiter.process_collision = False
 
     # -- stepping ------------------------------------------------------------------
@@ -295,6 +296,8 @@ class World:
             a0, a1 = self.extent(name, across)
             if hi < left - 1 or lo > right + 1 or bb.top < fz0 or bb.bottom > fz1:
                 continue
+            if g.soft and (lo < left - 1 or hi > right + 1):
+                continue  # a neighbour soft fingers reach into, not one they close on
             if min(a1, mid + half) - max(a0, mid - half) <= 0:
                 continue
             gap = (lo - left) + (right - hi)
