@@ -74,3 +74,14 @@ def test_what_a_tall_block_in_front_hides_is_judged_once_the_hand_has_left(name)
         measured = op["final_state"]["positions"][block]
         assert max(abs(measured[k] - sc.states[i].center[block][k]) for k in (0, 1)) < 5.0, \
             (block, measured, sc.states[i].center[block])
+
+
+def test_a_block_hidden_behind_one_of_its_height_is_placed_at_the_hands_height():
+    """A second row 6 mm behind a first of the same 25 mm cubes (helper round 10, v04z):
+    the side camera sees none of a back cube, but the hand that let it go rises in plain
+    view above the front row. Its height says the cube is on the table, not on the four
+    cubes around it that the :Near search named (it was a PLACE-ON-BLOCK on them)."""
+    sc, _, actions = watch_file(DATA / "two-rows-of-25mm-cubes.yaml")
+    assert_sequence(sc, actions)
+    places = [op for op in actions["operations"] if op["operation"].startswith("PLACE")]
+    assert [op["target"] for op in places] == [["table"]] * 8

@@ -22,16 +22,12 @@ from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
 from perception.vision.envnodes.hand import box
 from perception.vision.envnodes.holder import HolderView
+from perception.vision.envnodes.landing import where_placed
 from perception.vision.envnodes.placement import (
-    beside_target,
     boxes_but,
     known_boxes,
-    nearer,
-    placed_x,
     settled,
-    side_extent_x,
     targets_of,
-    unhidden_x,
 )
 from perception.vision.envnodes.sightings import Sightings
 from perception.vision.vfd.base import (
@@ -62,7 +58,6 @@ HOLD_SHARE = 0.35  # of the share a held block's image covers: a small block hel
 # (sensor noise flips single pixels; a 10 mm cube fully in view changes about 10).
 MIN_CHANGE_PX = 6
 LOAD_MM = 3.0  # the carried block's outline grown by this (tremor, tracking)
-HIDDEN = 0.5  # a released block shows less of its side outline: its height is unseen
 BESIDE_MM = 10.0  # a block this close beside a picked target may be the one the hand took
 
 class ChangeNode(EnvNodeBase):
@@ -260,34 +255,10 @@ class ChangeNode(EnvNodeBase):
                 # one off its place with closed jaws, helper round 10, x27)
                 result = DISAPPEARED
         let_go, found = self.hand.let_go(act.since), ()
-        if result == APPEARED and top is not None:
+        if result == APPEARED and let_go is not None:
+            pos, found = where_placed(self, act, env, pos, last, let_go, top)
+        elif result == APPEARED and top is not None:
             pos = top  # x and y from above; nothing better to fit it to
-        elif result == APPEARED and let_go is not None:
-            # The side camera looks along +y: it fixes x (and z) of the changed area well but
-            # not its depth; the top view of the spot is hidden by the hand. The block was set
-            # down centred between the fingers, so y comes from the hand at the release.
-            rel = let_go.spot
-            x, z = (float(pos[0]), float(pos[2])) if pos is not None else (rel[0], rel[2])
-            released = self.hand.held_box(env, at=let_go, spot=True)
-            held = [env.nodes[n] for n in act.special if n in env.nodes]
-            if pos is not None and held and held[0].size is not None:
-                side, size = self.sight.cameras["side"], held[0].size
-                x = side_extent_x(det, side, x, (float(rel[1]), z), size)
-                x = unhidden_x(det, side, x, (float(rel[1]), z), size,
-                               nearer(float(rel[1]) - float(size[1]) / 2.0, env))
-            if pos is not None and held and held[0].size is not None and released is not None:
-                x = placed_x(det, self.sight.cameras, x, float(released[1].center[0]),
-                             (float(rel[1]), z), held[0].size, last,
-                             boxes_but(env, {held[0].name} | set(env.held())))
-            pos = np.array([x, rel[1], z])
-            if held and held[0].size is not None and released is not None:
-                moving = {held[0].name, *env.supported_by(held[0].name), *env.held()}
-                # Hidden from the side camera (behind a 150 mm post, helper round 8's v06),
-                # the hand's height is a guess: the block rests on what is highest under it.
-                hidden = self.holder.shown(released, env, self.detector.windows["side"][0]) < HIDDEN
-                found = beside_target(env, targets_of(act, env), pos[:2] if hidden else pos,
-                                      held[0].size,
-                                      np.inf if hidden else float(released[1].lo[2]), moving)
         if result == DISAPPEARED and not act.special:
             found = taken or self.lifted(act, env)
         return Detection(value=result, found=found,

@@ -22,6 +22,7 @@ from perception.vision.vfd.base import BLOCK_MIN, Region3D, region_mask, regions
 # The holder window's block pixels are counted only where no other known object's image
 # falls; when less than this share of the window is left, the whole window counts.
 HOLDER_CLEAR = 0.2
+HIDDEN = 0.5  # a released block shows less of its side outline: its height is unseen
 
 
 class HolderView:
@@ -85,6 +86,16 @@ class HolderView:
         as still held after it was set down."""
         return self.shown(held, env, self.hand.tracker.holder.window) * \
             self.hand.held_fill(held[1])
+
+    def height_view(self, released: tuple[EnvNode, Region3D], env: EnvModel, window: Any
+                    ) -> str:
+        """What the side view shows of a block let go: "block" (its outline, HIDDEN or
+        more of it), "hand" (only the space above it, where the hand rose from: the
+        tracked hand's height holds), or "none" (neither: its height is unseen)."""
+        if self.shown(released, env, window) >= HIDDEN:
+            return "block"
+        above = released[1].shifted(dz=float(released[1].size[2]))
+        return "hand" if self.shown((released[0], above), env, window) >= HIDDEN else "none"
 
     def shown(self, held: tuple[EnvNode, Region3D], env: EnvModel, window: Any) -> float:
         """Share of a held block's side outline in ``window`` that no known object nearer
