@@ -25,6 +25,7 @@ ALIGN too.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from lbw_engine.do import jaws
@@ -204,6 +205,7 @@ def _push(focus: str, goal: Vec, axis: int, offset: float, toward: int,
     """Set down clear of the contact at ``toward`` (along the jaws), let go, push it in."""
     size = model.bodies[focus].size
     ignore = jaws.moving(focus, model)
+    goal = _clear_across(focus, goal, 1 - axis, rules, model)
     room = rules.fine.clearance
     while room <= ROOM_LIMIT_MM:
         spot = _shifted(goal, axis, -toward * room)
@@ -219,6 +221,31 @@ def _push(focus: str, goal: Vec, axis: int, offset: float, toward: int,
                     return PlacePlan(PUSH, goal, spot, start, end)
         room += jaws.STEP_MM
     return None
+
+
+def _clear_across(focus: str, goal: Vec, k: int, rules: CommandRules, model: EnvModel) -> Vec:
+    """``goal`` moved along ``k`` (across a push) to ``snap-gap`` from a block beside it on
+    that axis, when there is one on one side only. The block is let go on the table and
+    slid along the other axis: set down flush with a neighbour, a measurement error of 1
+    mm put it on that neighbour's edge, it fell off tilted, and the closed jaws came down
+    on it and flung it 200 mm (helper round 10, v06c: the last cube of a 2x2 grid
+    touching, pushed into its corner)."""
+    size = model.bodies[focus].size
+    ignore = jaws.moving(focus, model)
+    gaps: dict[int, float] = {}
+    for name, b in model.bodies.items():
+        o = 1 - k
+        level = (size[2] + b.size[2]) / 2 - abs(goal[2] - b.position[2]) > 0.5
+        beside = (size[o] + b.size[o]) / 2 - abs(goal[o] - b.position[o]) > 0.5
+        if name in ignore or not (level and beside):
+            continue
+        side = 1 if b.position[k] > goal[k] else -1
+        gap = abs(goal[k] - b.position[k]) - (size[k] + b.size[k]) / 2
+        gaps[side] = min(gap, gaps.get(side, math.inf))
+    near = [side for side, gap in gaps.items() if gap < rules.fine.snap_gap]
+    if len(near) != 1 or gaps.get(-near[0], math.inf) < 2 * rules.fine.snap_gap:
+        return goal  # clear already, or no room to step away
+    return _shifted(goal, k, -near[0] * (rules.fine.snap_gap - gaps[near[0]]))
 
 
 def _pusher(spot: Vec, size: Vec, axis: int, toward: int, room: float,

@@ -169,12 +169,15 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
                                   "narrow-block-touching-a-cube.yaml", "cube-moved-twice.yaml",
                                   "l-of-cubes-pushed-into-contact.yaml",
                                   "tower-goal-against-a-cube.yaml",
-                                  "set-aside-in-front-of-a-taller-block.yaml"],
+                                  "set-aside-in-front-of-a-taller-block.yaml",
+                                  "grid-2x2-touching.yaml",
+                                  "grid-2x2-touching-corner-last.yaml"],
                          ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside",
                               "withdraw-beside-a-block", "post-the-plan-leaves-alone",
                               "pick-beside-a-touching-block", "picked-where-just-put",
                               "pushed-into-contact", "picked-against-a-goal",
-                              "picked-before-a-taller-block"])
+                              "picked-before-a-taller-block", "pushed-into-a-corner",
+                              "pushed-into-a-corner-last"])
 def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     """Fault-free runs of users' scenarios (helper round 4): the monitor must not see a
     difference and redo an ACHIEVE (search.py leaving; matching.py _covered). Helper
@@ -184,7 +187,10 @@ def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     (u17): counting a pick's shade change read the robot's withdraw from a block set down
     5 mm from another as a second PICK (that rule was taken out again). Round 8 (v06):
     the robot watch did not know the 150 mm post the plan leaves alone, whose image
-    covered a cube's spot far behind it, and read the cube's pick as a NO-OP."""
+    covered a cube's spot far behind it, and read the cube's pick as a NO-OP. Round 10
+    (y06, v06c): a cube pushed into the corner of a 2x2 grid touching was let go flush
+    with the neighbour across the push; 1 mm off, it sat on that one's edge, fell off,
+    and the closed jaws came down on it (fine.py, _clear_across)."""
     from lbw_engine.pipeline.run import run
     from perception.world.scenario import load
 
