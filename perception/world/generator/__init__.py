@@ -42,7 +42,6 @@ from perception.world.generator.classic import (
 from perception.world.generator.classic import generate as _classic
 from perception.world.generator.families import FAMILY_BUILDERS, SIMULATED
 from perception.world.scenario import Scenario, load_text
-from perception.world.wrist import hold_axis
 
 __all__ = ["BUILDERS", "CATALOGUE", "FAMILIES", "LEVELS", "Crowded", "Generated", "clear",
            "distinguishable",
@@ -101,7 +100,7 @@ def _feasible(sc: Scenario) -> bool:
     tops = [top(o.center, o.shape) for w in ws for o in w]
     tops += [top(sc.states[-1].center[n], o.shape) for n, o in sc.teach.objects.items()]
     sizes = list(sc.shapes.values())
-    return max(tops) <= MAX_HEIGHT and _hand_room(sc) and all(
+    return max(tops) <= MAX_HEIGHT and all(
         distinguishable(a, b) for i, a in enumerate(sizes) for b in sizes[i + 1:])
 
 
@@ -121,13 +120,3 @@ def stands(sc: Scenario, tolerance: float = 3.0) -> bool:
     after = demo.world.positions()
     return all(math.dist(c, sc.states[-1].center[n]) < tolerance and
                math.dist(c, before[n]) < 1.0 for n, c in after.items())
-
-
-def _hand_room(sc: Scenario) -> bool:
-    """Does the demonstrator's hand fit beside every box it takes, along x or along y?
-
-    The person turns the wrist (perception.world.wrist): each hold needs one closing
-    axis whose fingers have room at the pick, the place and any align slide.
-    """
-    return all(hold_axis(sc, i) is not None
-               for i, step in enumerate(sc.demonstration) if step.kind != "place")
