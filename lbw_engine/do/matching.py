@@ -44,13 +44,17 @@ class Matching:
 
 
 def plan_objects(plan: Plan) -> list[str]:
-    """The objects the plan's root uses (base, target, special; Sec. VII-A 2), in order."""
-    root = plan.operators[plan.root]
+    """The objects the plan uses (base, target, special; Sec. VII-A 2), in order: the
+    root's, then those only its operators name. A block the demonstration set a cube on
+    and took it off again is in no slot of the root, whose SC+ is the final state, but
+    the ACHIEVE that puts the cube on it needs it (helper round 11, v22a: "the relation
+    names 'bs', which is not a plan object")."""
     out: list[str] = []
-    for slot in ("base", "target", "special"):
-        for name in root.slots[slot]:
-            if name not in NOT_MATCHED and name not in out:
-                out.append(name)
+    for op in [plan.operators[plan.root], *plan.operators.values()]:
+        for slot in ("base", "target", "special"):
+            for name in op.slots.get(slot, ()):
+                if name not in NOT_MATCHED and name not in out:
+                    out.append(name)
     return out
 
 

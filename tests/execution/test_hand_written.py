@@ -146,3 +146,16 @@ def test_a_block_lying_under_a_place_is_set_aside_before_it_is_built_over():
     assert result.success, result.message
     assert result.report["monitor"]["detections"] == []
     assert "'a-beam2' lies where the plan puts 'a-beam1': set aside" in result.commands_text
+
+
+def test_a_block_used_only_on_the_way_is_matched_and_used():
+    """The base the cube rested on for a while is a plan object, matched to the
+    execution layout's base (matching.plan_objects): the ACHIEVE that sets the cube on
+    it stopped instantiation ("the relation names 'bs', which is not a plan object")."""
+    result = run(load(DATA / "cube-set-on-a-base-and-taken-off.yaml"))
+    assert result.recognition["exact"], result.recognition["difference"]
+    assert result.failure is None, result.failure
+    report = result.execution.report
+    assert report["verification"] == {"cameras": True, "ground_truth": True}
+    assert report["monitor"]["detections"] == []
+    assert set(report["initial_state"]["matching"]) == {"bs", "tp"}
