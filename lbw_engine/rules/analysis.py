@@ -40,6 +40,7 @@ class AnalysisRules:
     passes: tuple[str, ...]
     closure_class: str
     protected_class: str
+    same_spot: float = 0.0  # mm per axis: S-S orders a place after the move off its spot
     # design.md's reserved names: the hand is an agent (never focused, never protected),
     # the table is fixed (never a base; Fig. 22 has it as a target).
     agents: frozenset[str] = frozenset({HAND})
@@ -68,7 +69,7 @@ def parse(rules_dir: Path) -> AnalysisRules:
                     "templates")
     dep = rd.mapping(data["dependencies"], "dependencies", data, "dependencies")
     rd.keys(dep, "dependencies", ("passes", "closure-class", "protected-class"),
-            where="dependencies")
+            ("same-spot",), where="dependencies")
     passes = rd.names(dep, "passes", "dependencies.passes", RELATION_KINDS,
                       "dependencies.passes")
     rules = AnalysisRules(
@@ -87,6 +88,8 @@ def parse(rules_dir: Path) -> AnalysisRules:
                                 "closure-class"),
         protected_class=rd.one_of(dep["protected-class"], PLAN_CLASSES, "class", dep,
                                   "protected-class"),
+        same_spot=rd.number(dep, "same-spot", "dependencies.same-spot", 0.0, 100.0)
+        if "same-spot" in dep else 0.0,
     )
     templates = rules.templates()
     for rule in [*rules.operators, *rules.removed, rules.start]:

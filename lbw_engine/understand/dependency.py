@@ -11,6 +11,12 @@ Relations between two operators OPᵢ (earlier) and OPⱼ (later):
   paper's demonstrations move each object once; a cube put at A and then at B had
   both ACHIEVEs on the table in one C-T closure, in parallel, and the robot left it
   at A (helper round 10, v24a).
+* S-S: OPⱼ puts an object where OPᵢ took another from (an SC⁻ and a later SC⁺
+  relation of one frame, ``:wrt``, whose ``:at`` differ by less than analysis.yaml's
+  ``same-spot`` on every axis; ordered). Blocks are at least 10 mm on a side, so two
+  at rest that close share their spot. A cube put at A, then moved on, and a brick
+  then put at A had the brick's ACHIEVE in parallel with the cube's first, and the
+  robot found A taken (helper round 11, 93).
 
 Passes search closures in the order of analysis.yaml (the paper: C-T, B-T, B-S,
 B-T) and are repeated until nothing changes. A closure is a connected component
@@ -42,7 +48,7 @@ from lbw_engine.understand.state import Operator, make_operator
 class _Index:
     """The current top-level operators, ordered by time, indexed by object and role."""
 
-    def __init__(self, ops: list[Operator]) -> None:
+    def __init__(self, ops: list[Operator], same_spot: float = 0.0) -> None:
         self.ops = sorted(ops, key=lambda o: o.lo)
         self.los = [o.lo for o in self.ops]
         self.pos = {id(o): k for k, o in enumerate(self.ops)}
@@ -54,7 +60,7 @@ class _Index:
                                ("special", op.special)):
                 for obj in objs:
                     self.by_role[role][obj].append(op)
-        self.order = self._ordering_edges()
+        self.order = self._ordering_edges(same_spot)
         self.neighbours: dict[int, set[int]] = defaultdict(set)
         self.preds: dict[int, list[int]] = defaultdict(list)
         for i, j in self.order:
@@ -89,9 +95,37 @@ class _Index:
                         out.append((self.pos[id(i_op)], self.pos[id(j_op)]))
         return out
 
-    def _ordering_edges(self) -> set[tuple[int, int]]:
-        """All ordered dependencies (B-T ∪ B-S ∪ B-B) as (earlier, later) positions."""
-        return set(self.edges("B-T")) | set(self.edges("B-S")) | set(self.edges("B-B"))
+    def _ordering_edges(self, same_spot: float) -> set[tuple[int, int]]:
+        """All ordered dependencies (B-T ∪ B-S ∪ B-B ∪ S-S) as (earlier, later) positions."""
+        return set(self.edges("B-T")) | set(self.edges("B-S")) | set(self.edges("B-B")) | \
+            self._same_spot_edges(same_spot)
+
+    def _same_spot_edges(self, mm: float) -> set[tuple[int, int]]:
+        """S-S: (i, j) where OPⱼ puts an object within ``mm`` of where OPᵢ, earlier, took
+        another from. Left spots are kept in a grid of ``mm`` cells, so a place looks
+        only at the 27 cells around it."""
+        out: set[tuple[int, int]] = set()
+        if mm <= 0:
+            return out
+        left: dict[tuple, list[tuple[int, str, tuple[float, ...]]]] = defaultdict(list)
+
+        def cell(wrt: str | None, at: tuple[float, ...]) -> tuple:
+            return (wrt, *(int(c // mm) for c in at))
+
+        for j, op in enumerate(self.ops):
+            for r in op.sc_plus:
+                if r.at is None:
+                    continue
+                c = cell(r.wrt, r.at)
+                for d in _NEAR_CELLS:
+                    key = (c[0], *(a + b for a, b in zip(c[1:], d, strict=True)))
+                    out.update((i, j) for i, subject, at in left.get(key, ())
+                               if subject != r.subject and all(
+                                   abs(a - b) < mm for a, b in zip(at, r.at, strict=True)))
+            for r in op.sc_minus:
+                if r.at is not None:
+                    left[cell(r.wrt, r.at)].append((j, r.subject, r.at))
+        return out
 
     def runs(self, members: list[int]) -> list[list[int]]:
         """Split a closure where an operator in between depends on the stretch."""
@@ -108,6 +142,9 @@ class _Index:
                 out[-1].append(nxt)
                 current.add(nxt)
         return out
+
+
+_NEAR_CELLS = [(a, b, c) for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)]
 
 
 def _components(nodes: Iterable[int], edges: Iterable[tuple[int, int]]) -> list[list[int]]:
@@ -153,7 +190,7 @@ class Planner:
 
     def run_pass(self, kind: str, ops: list[Operator]) -> tuple[list[Operator], bool]:
         """Group every closure of ``kind``; return the new top level and whether it changed."""
-        index = _Index(ops)
+        index = _Index(ops, self.rules.same_spot)
         kind_edges = index.edges(kind)
         groups: list[list[int]] = []
         for comp in _components(range(len(index.ops)), kind_edges):
@@ -186,7 +223,7 @@ class Planner:
                 break
         if len(current) > 1:
             # Unrelated structures: one root over them, still honouring any order.
-            index = _Index(current)
+            index = _Index(current, self.rules.same_spot)
             current = [self._new(self.rules.closure_class,
                                  layered_plot(index.ops, index), index.ops)]
         top = current[0]

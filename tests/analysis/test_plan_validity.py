@@ -118,3 +118,39 @@ def test_the_moves_of_one_object_stay_in_their_order(case):
     assert again
     for a, b in again:
         assert _ordered(paths[a.name], paths[b.name]), (a.name, b.name)
+
+
+# A spot used twice (helper round 11): S-S orders a place after the move off its spot.
+SPOT_REUSED = {
+    # a to A, a on to B, then b to A: b's ACHIEVE was in a $parallel with a's first,
+    # and the robot found A taken (93)
+    "moved-on-then-filled": ("a: {shape: c40, at: [-200, 100]}\n"
+                             "    b: {shape: brick, at: [200, 100]}\n",
+                             [("a", [0, 200]), ("a", [0, 330]), ("b", [0, 200])]),
+    # a starts at A; it goes to B and b takes A (a swap through the table)
+    "initial-spot-filled": ("a: {shape: c40, at: [0, 200]}\n"
+                            "    b: {shape: brick, at: [200, 100]}\n",
+                            [("a", [-150, 300]), ("b", [0, 200])]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(SPOT_REUSED))
+def test_a_place_on_a_spot_another_left_comes_after_that_move(case):
+    from lbw_engine.see.actions import to_actions
+    from perception.world.oracle import oracle_recognizer
+    from perception.world.scenario import load_text
+
+    objects, moves = SPOT_REUSED[case]
+    demo = "".join(f"    - pick: {o}\n    - place: {o}\n      on: table\n      at: {at}\n"
+                   for o, at in moves)
+    sc = load_text("name: spot-reused\nshapes:\n  c40: [40, 40, 40]\n  brick: [60, 30, 30]\n"
+                   f"teach:\n  objects:\n    {objects}  demonstration:\n{demo}")
+    rules = load_rules()
+    result = analyze(parse_actions(to_actions(oracle_recognizer(sc, rules)),
+                                   RelationTable(rules.analysis.tolerance)), rules.analysis)
+    paths = _paths(result.plan)
+    ops = sorted(result.achieves, key=lambda o: o.lo)
+    filler = ops[-1]  # b's ACHIEVE, onto the spot a left
+    leaves = next(o for o in ops if "a" in o.base and o.lo == max(
+        p.lo for p in ops if "a" in p.base))
+    assert _ordered(paths[leaves.name], paths[filler.name]), (leaves.name, filler.name)
