@@ -183,10 +183,11 @@ class _Planner:
                            [("fine", grip, 1.0, (), 0.6)])
             elif step.kind in ("pick", "touch"):
                 c = lay.center[step.obj]
-                grip = _add(c, (0, 0, grasp_offset(size)))
+                pre = self.wrist(i, size)
+                grip = _add(c, (0, 0, grasp_offset(size, self.soft)))
                 fine = [("fine", grip, 1.0, ("close",) if step.kind == "pick" else (), 0.6)]
-                self.local(i, grip, c[2] + size[2] / 2, top, self.wrist(i, size), fine)
-                held_dz = grasp_offset(size)
+                self.local(i, grip, c[2] + size[2] / 2, top, pre, fine)
+                held_dz = grasp_offset(size, self.soft)
                 held = step.obj if step.kind == "pick" else held
             else:
                 dest = step.dest if step.align is not None else _clear_of_neighbours(
