@@ -171,13 +171,14 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
                                   "tower-goal-against-a-cube.yaml",
                                   "set-aside-in-front-of-a-taller-block.yaml",
                                   "grid-2x2-touching.yaml",
-                                  "grid-2x2-touching-corner-last.yaml"],
+                                  "grid-2x2-touching-corner-last.yaml",
+                                  "pillar-on-a-150mm-pillar.yaml"],
                          ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside",
                               "withdraw-beside-a-block", "post-the-plan-leaves-alone",
                               "pick-beside-a-touching-block", "picked-where-just-put",
                               "pushed-into-contact", "picked-against-a-goal",
                               "picked-before-a-taller-block", "pushed-into-a-corner",
-                              "pushed-into-a-corner-last"])
+                              "pushed-into-a-corner-last", "stepped-aside-from-a-tall-tower"])
 def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     """Fault-free runs of users' scenarios (helper round 4): the monitor must not see a
     difference and redo an ACHIEVE (search.py leaving; matching.py _covered). Helper
@@ -190,7 +191,9 @@ def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     covered a cube's spot far behind it, and read the cube's pick as a NO-OP. Round 10
     (y06, v06c): a cube pushed into the corner of a 2x2 grid touching was let go flush
     with the neighbour across the push; 1 mm off, it sat on that one's edge, fell off,
-    and the closed jaws came down on it (fine.py, _clear_across)."""
+    and the closed jaws came down on it (fine.py, _clear_across). Round 11 (v110n): the
+    gripper went straight down to the look pose from the top of a 270 mm tower and
+    caught it (monitor.step_aside)."""
     from lbw_engine.pipeline.run import run
     from perception.world.scenario import load
 
