@@ -121,7 +121,7 @@ def plan_place(focus: str, goal: Vec, axis: int, offset: float, rules: CommandRu
         if axis != contact:
             plan = _slide(focus, goal, axis, offset, contact, toward, rules, model)
         else:
-            plan = _push(focus, goal, axis, offset, toward, rules, model)
+            plan = _push(focus, goal, axis, offset, toward, rules, model, aligned=True)
         if plan is not None:
             return PlacePlan(plan.kind, goal, plan.set_down, plan.push_from, plan.push_to,
                              alignment), ""
@@ -135,7 +135,8 @@ def plan_place(focus: str, goal: Vec, axis: int, offset: float, rules: CommandRu
         return PlacePlan("plain", goal, alignment=alignment), ""
     blocked = _blocked_sides(focus, goal, axis, offset, rules, model)
     if len(blocked) == 1:
-        plan = _push(focus, goal, axis, offset, blocked[0], rules, model)
+        plan = _push(focus, goal, axis, offset, blocked[0], rules, model,
+                     aligned=alignment is not None)
         if plan is not None:
             return plan, ""
     return None, (f"a jaw would hit '{hit}' at {_mm(model.bodies[hit].position)}, and there "
@@ -201,11 +202,13 @@ def _slide(focus: str, goal: Vec, axis: int, offset: float, contact: int, toward
 
 
 def _push(focus: str, goal: Vec, axis: int, offset: float, toward: int,
-          rules: CommandRules, model: EnvModel) -> PlacePlan | None:
-    """Set down clear of the contact at ``toward`` (along the jaws), let go, push it in."""
+          rules: CommandRules, model: EnvModel, aligned: bool = False) -> PlacePlan | None:
+    """Set down clear of the contact at ``toward`` (along the jaws), let go, push it in;
+    ``aligned``: its faces must end coplanar with a neighbour's (it keeps its goal)."""
     size = model.bodies[focus].size
     ignore = jaws.moving(focus, model)
-    goal = _clear_across(focus, goal, 1 - axis, rules, model)
+    if not aligned:
+        goal = _clear_across(focus, goal, 1 - axis, rules, model)
     room = rules.fine.clearance
     while room <= ROOM_LIMIT_MM:
         spot = _shifted(goal, axis, -toward * room)
