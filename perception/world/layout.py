@@ -114,10 +114,18 @@ class Layout:
                 name)
         if z1 > MAX_TOP + EPS:
             raise ValueError(f"'{name}' reaches {z1:g} mm, above the {MAX_TOP:g} mm limit", name)
-        for s in self.support.get(name, ()) or ():
-            if s != "table" and not overlaps(b, self.bounds(s), (0, 1)):
+        held_up = [s for s in self.support.get(name, ()) or () if s != "table"]
+        for s in held_up:
+            if not overlaps(b, self.bounds(s), (0, 1)):
                 raise ValueError(f"'{name}' does not rest on '{s}' (their footprints are apart)",
                                  name)
+        if held_up and not all(
+                min(self.bounds(s)[k][0] for s in held_up) - EPS <= center[k]
+                <= max(self.bounds(s)[k][1] for s in held_up) + EPS for k in (0, 1)):
+            # its centre beyond its supports: the block falls off (helper round 11, v108a)
+            raise ValueError(f"'{name}' would tip off {', '.join(repr(s) for s in held_up)}: "
+                             f"its centre (x {center[0]:g}, y {center[1]:g}) is not over them",
+                             name)
         for other in self.center:
             if other not in skip and other != self.held and overlaps(b, self.bounds(other)):
                 raise ValueError(f"'{name}' would overlap '{other}'", name)

@@ -69,6 +69,12 @@ ROWS = [
      "unknown object 'q'"),
     ("rests-off-support", _with("[-40, 300], on: p", "[-120, 300], on: p"), 10,
      "teach.objects.c", "does not rest on 'p'"),
+    # its footprint meets the plank's, its centre is 10 mm beyond the end (round 11, 108)
+    ("rests-beyond-support", _with("[-40, 300], on: p", "[-90, 300], on: p"), 10,
+     "teach.objects.c", "would tip off 'p'"),
+    ("placed-beyond-support", _steps("    - pick: a\n    - place: a\n      on: p\n"
+                                     "      at: [-85, 300]\n"), 15,
+     "teach.demonstration[1].at", "would tip off 'p'"),
     ("noise-unknown-key", GOOD + "noise: {blur: 1}\n", 16, "noise.blur", "unknown key"),
     ("noise-negative", GOOD + "noise: {tremor: -1}\n", 16, "noise.tremor", "not be negative"),
     ("noise-speed-order", GOOD + "noise: {speed: [1.2, 0.8]}\n", 16, "noise.speed",
