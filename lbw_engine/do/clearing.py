@@ -12,7 +12,8 @@ open (Sec. IX-C2); this is the least one that keeps the plan's meaning.
 
 A free spot is a table spot where the rider and the open jaws around it meet
 nothing, away from where the plan will build (each taught placement in world
-coordinates, grown by ``BUILD_MARGIN_MM``), nearest the rider first.
+coordinates, grown by ``BUILD_MARGIN_MM``, or by less where nothing that far is
+free: ``MARGINS_MM``), nearest the rider first.
 
 The same steps put down a block that no one way of closing the jaws can both
 pick up and put where the plan wants it (``plan_regrasp``): it is set down on a
@@ -30,8 +31,13 @@ from lbw_engine.model.geometry import TABLE, TABLE_X, TABLE_Y, Vec, overlap
 from lbw_engine.rules.commands import CommandRules
 
 EDGE_MM = 12.0  # kept from the table's edge
+SKY_MM = 400.0  # the column kept free above a set-aside spot reaches this high
 GRID_MM = 10.0  # spacing of candidate spots
 BUILD_MARGIN_MM = 60.0  # room kept around the places the plan will fill
+# ... less when nothing is free so far from them, never into them: a 200 x 130 plate
+# lying where its walls go found no spot 60 mm clear of the walls and of its own place
+# on them (helper round 11, v109m: "the spot is occupied by 'p'")
+MARGINS_MM = (BUILD_MARGIN_MM, BUILD_MARGIN_MM / 2, 0.0)
 
 
 @dataclass(frozen=True)
@@ -87,11 +93,14 @@ def plan_set_aside(plan: Plan, name: str, rules: CommandRules,
                    model: EnvModel) -> SetAside | None:
     """Where and how to put ``name`` down on the table, or None if nowhere is free."""
     body = model.bodies[name]
+    if all(jaws.width(body.size, a, rules) is None for a in rules.jaw_axes):
+        return None  # wider than the jaws open, whichever way they close
     axis, off = grasp.choose(name, body.position, rules, model, strict=False)
-    avoid = _build_sites(plan, rules, model)
-    for spot in table_spots(body.position, body.size):
-        if _clear(name, spot, axis, off, rules, model, avoid):
-            return SetAside(name, body.position, spot, axis, off)
+    for margin in MARGINS_MM:
+        avoid = _build_sites(plan, rules, model, margin)
+        for spot in table_spots(body.position, body.size):
+            if _clear(name, spot, axis, off, rules, model, avoid):
+                return SetAside(name, body.position, spot, axis, off)
     return None
 
 
@@ -102,12 +111,14 @@ def plan_regrasp(plan: Plan, name: str, picks: list[tuple[int, float]],
     free table spot where one of ``picks`` can let go of it and one of ``places`` can
     take it up, nearest it first."""
     body = model.bodies[name]
-    avoid = _build_sites(plan, rules, model)
-    for spot in table_spots(body.position, body.size):
-        for axis, off in picks:
-            if _clear(name, spot, axis, off, rules, model, avoid) and any(
-                    jaws.blocker(name, spot, a, o, rules, model) is None for a, o in places):
-                return SetAside(name, body.position, spot, axis, off)
+    for margin in MARGINS_MM:
+        avoid = _build_sites(plan, rules, model, margin)
+        for spot in table_spots(body.position, body.size):
+            for axis, off in picks:
+                if _clear(name, spot, axis, off, rules, model, avoid) and any(
+                        jaws.blocker(name, spot, a, o, rules, model) is None
+                        for a, o in places):
+                    return SetAside(name, body.position, spot, axis, off)
     return None
 
 
@@ -120,26 +131,33 @@ def table_spots(start: Vec, size: Vec, edge: float = EDGE_MM) -> list[Vec]:
     """Candidate table spots for a box of ``size`` (``edge`` mm in from the table's
     edges, on a grid), nearest ``start`` first: every set-aside searches these."""
     hx, hy = size[0] / 2 + edge, size[1] / 2 + edge
-    out = []
-    x = TABLE_X[0] + hx
-    while x <= TABLE_X[1] - hx:
-        y = TABLE_Y[0] + hy
-        while y <= TABLE_Y[1] - hy:
-            out.append((x, y, size[2] / 2))
-            y += GRID_MM
-        x += GRID_MM
+    out = [(x, y, size[2] / 2) for x in _steps(TABLE_X[0] + hx, TABLE_X[1] - hx)
+           for y in _steps(TABLE_Y[0] + hy, TABLE_Y[1] - hy)]
     return sorted(out, key=lambda p: (p[0] - start[0]) ** 2 + (p[1] - start[1]) ** 2)
 
 
-def _build_sites(plan: Plan, rules: CommandRules, model: EnvModel) -> list[tuple[Vec, Vec]]:
-    """Boxes around the taught placements in world coordinates: the plan builds there."""
+def _steps(lo: float, hi: float) -> list[float]:
+    """``lo`` to ``hi`` by GRID_MM, and ``hi`` itself: a wide plate fits only against the
+    table's far edge, 6 mm past the last grid row (helper round 11, 109)."""
+    out = []
+    v = lo
+    while v <= hi:
+        out.append(v)
+        v += GRID_MM
+    return out + [hi] if out and hi - out[-1] > 1e-6 else out
+
+
+def _build_sites(plan: Plan, rules: CommandRules, model: EnvModel,
+                 margin: float = BUILD_MARGIN_MM) -> list[tuple[Vec, Vec]]:
+    """Boxes around the taught placements in world coordinates, grown by ``margin``: the
+    plan builds there."""
     out = []
     for op in plan.operators.values():
         for r in op.sc_plus:
             if r.type in rules.support_relations and r.at is not None and \
                     r.wrt in (None, TABLE) and r.subject in model.bodies:
                 s = model.bodies[r.subject].size
-                grow = 2 * BUILD_MARGIN_MM
+                grow = 2 * margin
                 out.append(((r.at[0], r.at[1], 150.0), (s[0] + grow, s[1] + grow, 300.0)))
     return out
 
@@ -152,6 +170,13 @@ def _clear(name: str, spot: Vec, axis: int, off: float, rules: CommandRules,
     if any(overlap(spot, size, c, s, tol=0.0) for c, s in avoid):
         return False
     if any(overlap(spot, size, b.position, b.size, tol=-rules.jaw_clearance)
+           for n, b in model.bodies.items() if n not in ignore):
+        return False
+    # nothing overhangs it either: a cube set aside 2 mm under a plate's overhang was
+    # hidden from above, and the robot watch saw its place as a NO-OP (helper round 11, 32)
+    above = (spot[0], spot[1], (spot[2] + size[2] / 2 + SKY_MM) / 2)
+    column = (size[0], size[1], SKY_MM - spot[2] - size[2] / 2)
+    if any(overlap(above, column, b.position, b.size, tol=0.0)
            for n, b in model.bodies.items() if n not in ignore):
         return False
     return jaws.blocker(name, spot, axis, off, rules, model) is None
