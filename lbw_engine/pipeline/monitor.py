@@ -166,6 +166,10 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
     plan_supports = tr.model.final_supports(names)
     goals = tr.model.settled(names)
     todo = units(plan, tr.ops, snaps)
+    # the plan's order of its units: a redone unit goes back to its place in it (a cube
+    # to be put on a base redone first went onto the base's spare where it lay, and the
+    # base's own unit came after it: helper round 11, 58b)
+    rank = {u.operator: k for k, u in enumerate(todo)}
     out = out if out is not None else Monitored([], tr.model)
     out.model = tr.model
     done: list[Unit] = []
@@ -227,7 +231,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
             tr = trace(aside, rules, fresh, on_operator=snap, roots=[unit_x.operator])
             todo += units(aside, tr.ops, snaps)
         snaps = {}
-        tr = trace(plan, rules, fresh, on_operator=snap, roots=[u.operator for u in redo + rest])
+        roots = sorted({u.operator for u in redo + rest}, key=lambda n: rank.get(n, len(rank)))
+        tr = trace(plan, rules, fresh, on_operator=snap, roots=roots)
         todo += units(plan, tr.ops, snaps)
         out.model = tr.model
         again = {u.operator for u in redo} | {u.operator for u in todo if u.focus in wrong}
