@@ -121,7 +121,9 @@ class ChangeNode(EnvNodeBase):
         still covers from above where it was let go, or where it stood for a pick: a 12 mm
         cube set down 4 mm in front of another showed the side camera crease lines over
         the other's face (helper round 9, w24); a 10 mm cube picked behind a crate showed
-        it nothing (bench 1264, the robot watch)."""
+        it nothing (bench 1264, the robot watch). For a pick, also while no view tells
+        whether it still stands there: a 10 mm cube lifted from 6 mm behind a 60 mm block
+        was still behind it at the motion's end (helper round 11, v53a)."""
         if held is not None:
             spot = self.hand.held_box(env, at=self.hand.let_go(act.since), spot=True)
             spot = settled(spot[1], act, env) if spot is not None else None
@@ -131,6 +133,8 @@ class ChangeNode(EnvNodeBase):
                 return False
             lift = (targets[0], Region3D.around(self.hand.hand, targets[0].size))
             fill, spot = self.holder.visible_fill(lift, env), box(targets[0])
+            if held_bar(fill) <= EMPTY and self.seen(targets[0], env) is None:
+                return True
         return spot is not None and fill is not None and held_bar(fill) <= EMPTY \
             and self.sights.palm_over(spot)
 

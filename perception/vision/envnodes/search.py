@@ -210,6 +210,12 @@ class SearchNode(EnvNodeBase):
         if not hits:
             return ()
         if held is None:
+            # and the blocks below it in the hand's column: a 10 mm cube 6 mm beside a 60 mm
+            # block, under the robot's hand, lies below the level where the block's edge is
+            # found first (helper round 11, v53h: the pick read as a NO-OP of the block)
+            column = Region3D((*region.lo[:2], 0.0), region.hi)
+            hits += [n for n in env.nodes_intersecting(column.center, column.size)
+                     if n.name not in skip and n not in hits]
             return self.grasped(hits, env)
         while hits:
             top = max(n.top() for n in hits)

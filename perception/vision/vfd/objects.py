@@ -114,7 +114,7 @@ class ObjectFinder(VFD):
                 measured.add(len(boxes))
             boxes.append((height, self.footprint(rect, height), rect))
         boxes = unseen_heights(boxes, self.cameras["side"], self.cameras["side"].size,
-                               self.footprint, shapes)
+                               self.footprint, shapes, measured)
         thinnest = min((float(v[2]) for v in shapes.values()), default=0.0)
         boxes = seams.seat_rims(boxes, self.cameras["side"], side_img, self.footprint, thinnest,
                                0.6 * smallest, measured)

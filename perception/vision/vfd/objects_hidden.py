@@ -22,25 +22,36 @@ from perception.vision.vfd.resources import Window
 
 HIDDEN_SHARE = 0.6  # of a top face's side-view image inside nearer blocks' images: unseen
 APART_MM = 10.0  # a nearer block stands this far in front: not a ring of the same stack
+# ... or only this far, before a face whose height the column search gave: a 10 mm cube
+# 6 mm behind a 60 mm block read 55 mm tall (helper round 11, v53a); a measured face
+# keeps the wider gap (the top of a stack of three sizes, a ring strip 10 mm in front)
+SEARCHED_APART_MM = 3.0
 
 Footprint = Callable[[tuple, float], tuple[float, float, float, float]]
 
 
 def unseen_heights(boxes: list[Box], cam, size: tuple[int, int], footprint: Footprint,
-                   shapes: Mapping[str, Sequence[float]]) -> list[Box]:
+                   shapes: Mapping[str, Sequence[float]],
+                   measured: frozenset[int] | set[int] = frozenset()) -> list[Box]:
     """``boxes`` with each top face that the blocks nearer the side camera hide at its
     height lowered to the height of the shape its footprint names, where that hides it
-    too. ``size``: the side image's (width, height)."""
+    too. A box whose height no side-view top face of its own gave (not in ``measured``:
+    the column search's) is lowered too when the nearer blocks hide its whole column: the
+    search climbed their silhouette to their top edge, where the face shows a little
+    (helper round 11, v53g: a 10 mm cube 30 mm behind a 60 mm block read 51 mm tall).
+    ``size``: the side image's (width, height)."""
     whole = Window("side", 0, 0, size[0], size[1])
     out = list(boxes)
     for k, (h, fp, rect) in enumerate(boxes):
-        nearer = [b for j, b in enumerate(boxes) if j != k and b[1][3] < fp[1] - APART_MM]
+        apart = APART_MM if k in measured else SEARCHED_APART_MM
+        nearer = [b for j, b in enumerate(boxes) if j != k and b[1][3] < fp[1] - apart]
         if not nearer or any(j != k and (holds_centre(r, rect) or holds_centre(rect, r))
                              for j, (_, _, r) in enumerate(boxes)):
             continue  # nothing in front; or a face of a stack, whose column the seams read
         front = regions_mask(cam, [Region3D((a0, b0, 0.0), (a1, b1, g))
                                    for g, (a0, b0, a1, b1), _ in nearer], whole)
-        if not _hidden(cam, whole, front, footprint(rect, h), h):
+        if not _hidden(cam, whole, front, footprint(rect, h), h) and (
+                k in measured or not _hidden(cam, whole, front, footprint(rect, h), h, 0.0)):
             continue
         for z in sorted((t for t in heights_of(fp, shapes) if t < h - 3.0), reverse=True):
             if _hidden(cam, whole, front, footprint(rect, z), z):
@@ -49,9 +60,11 @@ def unseen_heights(boxes: list[Box], cam, size: tuple[int, int], footprint: Foot
     return out
 
 
-def _hidden(cam, window: Window, front, fp: tuple[float, float, float, float], z: float
-            ) -> bool:
-    """Whether ``front`` (a mask of the blocks in front) hides the top face ``fp`` at ``z``."""
-    face = region_mask(cam, Region3D((fp[0], fp[1], z), (fp[2], fp[3], z)), window)
+def _hidden(cam, window: Window, front, fp: tuple[float, float, float, float], z: float,
+            low: float | None = None) -> bool:
+    """Whether ``front`` (a mask of the blocks in front) hides the top face ``fp`` at ``z``
+    (with ``low``: the column from there up to it)."""
+    face = region_mask(cam, Region3D((fp[0], fp[1], z if low is None else low),
+                                     (fp[2], fp[3], z)), window)
     n = int(face.sum())
     return n > 0 and float((face & front).sum()) / n >= HIDDEN_SHARE
