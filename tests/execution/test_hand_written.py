@@ -159,3 +159,30 @@ def test_a_block_used_only_on_the_way_is_matched_and_used():
     assert report["verification"] == {"cameras": True, "ground_truth": True}
     assert report["monitor"]["detections"] == []
     assert set(report["initial_state"]["matching"]) == {"bs", "tp"}
+
+
+@pytest.mark.parametrize("name", ["wide-plate-lying-on-the-legs-goals",
+                                  "wide-plate-lying-where-its-walls-go"])
+def test_a_wide_plate_on_the_goal_spots_is_set_aside(name):
+    """A 200 x 130 plate lies where the plan's first blocks go (helper round 11, 109 and
+    v109m). It is set aside nearer the build sites when nothing 60 mm clear of them is
+    free, and against the table's far edge, past the last row of the spot grid
+    (clearing.MARGINS_MM, clearing._steps): the run stopped, 'the spot is occupied'."""
+    result = run(load(DATA / f"{name}.yaml"))
+    assert result.failure is None, result.failure
+    report = result.execution.report
+    assert report["verification"] == {"cameras": True, "ground_truth": True}
+    assert report["monitor"]["detections"] == []
+
+
+def test_a_removed_base_is_replaced_before_what_it_carries():
+    """The tower's base is removed with the cube on it; a spare base lies aside (helper
+    round 11, 58b). The repair puts the spare where the base goes before the cube goes
+    on it: redone units keep the plan's order. The cube's unit, redone first, had put it
+    on the spare where the spare lay, four times, and the run stopped."""
+    result = run(load(DATA / "tower-base-removed-with-a-spare.yaml"))
+    assert result.failure is None, result.failure
+    report = result.execution.report
+    assert report["verification"] == {"cameras": True, "ground_truth": True}
+    assert any(d["object"] == "b" for d in report["monitor"]["detections"])
+    assert report["monitor"]["repairs"]

@@ -172,13 +172,19 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
                                   "set-aside-in-front-of-a-taller-block.yaml",
                                   "grid-2x2-touching.yaml",
                                   "grid-2x2-touching-corner-last.yaml",
-                                  "pillar-on-a-150mm-pillar.yaml"],
+                                  "pillar-on-a-150mm-pillar.yaml",
+                                  "cube-10mm-6mm-behind-a-60mm-block.yaml",
+                                  "cube-10mm-30mm-behind-a-60mm-block.yaml",
+                                  "cube-10mm-6mm-beside-a-60mm-block.yaml",
+                                  "cube-set-aside-beside-a-capped-post.yaml"],
                          ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside",
                               "withdraw-beside-a-block", "post-the-plan-leaves-alone",
                               "pick-beside-a-touching-block", "picked-where-just-put",
                               "pushed-into-contact", "picked-against-a-goal",
                               "picked-before-a-taller-block", "pushed-into-a-corner",
-                              "pushed-into-a-corner-last", "stepped-aside-from-a-tall-tower"])
+                              "pushed-into-a-corner-last", "stepped-aside-from-a-tall-tower",
+                              "small-pick-hidden-behind-a-block", "small-cube-behind-a-block",
+                              "small-pick-beside-a-tall-block", "set-aside-under-no-overhang"])
 def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     """Fault-free runs of users' scenarios (helper round 4): the monitor must not see a
     difference and redo an ACHIEVE (search.py leaving; matching.py _covered). Helper
@@ -193,7 +199,11 @@ def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     with the neighbour across the push; 1 mm off, it sat on that one's edge, fell off,
     and the closed jaws came down on it (fine.py, _clear_across). Round 11 (v110n): the
     gripper went straight down to the look pose from the top of a 270 mm tower and
-    caught it (monitor.step_aside)."""
+    caught it (monitor.step_aside). Round 11 (v53a, v53g, v53h): a 10 mm cube beside or
+    behind a 60 mm block was read 51 mm tall by the finder (objects_hidden), its pick
+    named the block (search.confirm) or, still behind it, was judged before the hand
+    rose into view (ChangeNode.too_small). Round 11 (32): a cube set aside 2 mm under a
+    plate's overhang was hidden from above (clearing._clear keeps the column free)."""
     from lbw_engine.pipeline.run import run
     from perception.world.scenario import load
 
