@@ -186,3 +186,14 @@ def test_a_removed_base_is_replaced_before_what_it_carries():
     assert report["verification"] == {"cameras": True, "ground_truth": True}
     assert any(d["object"] == "b" for d in report["monitor"]["detections"])
     assert report["monitor"]["repairs"]
+
+
+def test_a_repair_on_top_of_a_250mm_tower_leaves_the_tower_standing():
+    """The gripper waits beside the table at the height it left the tower at: parked at
+    150 mm, the repair's reach climbed across the 250 mm tower and its jaws caught the
+    top cube; all five fell (helper round 12, v69a; monitor.step_aside)."""
+    result = run(load(DATA / "drop-on-top-of-a-250mm-tower.yaml"))
+    assert result.failure is None, result.failure
+    report = result.execution.report
+    assert report["verification"] == {"cameras": True, "ground_truth": True}
+    assert {d["object"] for d in report["monitor"]["detections"]} == {"e"}
