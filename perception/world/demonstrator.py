@@ -32,7 +32,7 @@ from perception.world.hand import Gripper, grasp_offset, pre_shape
 from perception.world.layout import Layout
 from perception.world.physics import World
 from perception.world.scene import Box
-from perception.world.wrist import hold_axis, slide_path
+from perception.world.wrist import hold_axis, slide_path, squeeze_axis
 
 Vec3 = tuple[float, float, float]
 
@@ -99,11 +99,14 @@ class _Planner:
         squeeze in: a rigid finger would shove the neighbours (helper round 10, z04:
         a finished row pushed 40 mm)."""
         axis = hold_axis(self.sc, i)
+        squeeze = axis is None
+        if squeeze:
+            axis = squeeze_axis(self.sc, i)  # room where it is taken, if anywhere
         turn: tuple = ()
         if axis is not None and axis != self.axis:
             turn, self.axis = ("turn", axis), axis
-        if (axis is None) != self.soft:
-            self.soft = axis is None
+        if squeeze != self.soft:
+            self.soft = squeeze
             turn += ("soft", self.soft)
         return turn + ("open", pre_shape(size, axis=self.axis, soft=self.soft))
 

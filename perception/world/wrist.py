@@ -110,10 +110,27 @@ def hold_axis(scenario, i: int) -> int | None:
             after, place = scenario.states[j], steps[j]
             slide = slide_path(after, place) if place.align is not None else []
             checks += [(after, p) for p in _path([place.dest, *slide, place.final])]
-    size = before.size[step.obj]
-    for span in (COMFORTABLE_SPAN, HAND.max_opening):  # the wide grip only if it must be
+    return _first_with_room(before.size[step.obj], step.obj, checks)
+
+
+def squeeze_axis(scenario, i: int) -> int | None:
+    """For a hold with no room on either axis (``hold_axis`` None): the axis whose
+    fingers have room where the block is taken, if one has; the fingertips then squeeze
+    in only where it is put down. Taken with the other axis from a cluster of 20 mm
+    cubes 20 mm apart, the fingers stood half inside a neighbour, and the hand-tracker's
+    grip came out 4 mm off: the place at the corner of a grid was read on the three
+    cubes around it (helper round 12, v11d)."""
+    before = scenario.states[i - 1] if i else scenario.teach.layout()
+    obj = scenario.demonstration[i].obj
+    return _first_with_room(before.size[obj], obj, [(before, before.center[obj])])
+
+
+def _first_with_room(size: Vec3, obj: str, checks: list) -> int | None:
+    """The first axis (x before y; the wide grip only if it must be) whose fingers fit
+    the block and have room at every (layout, centre) of ``checks``."""
+    for span in (COMFORTABLE_SPAN, HAND.max_opening):
         for axis in (0, 1):
             if size[axis] + 2 * CLEARANCE <= span and all(
-                    has_room(lay, step.obj, c, axis) for lay, c in checks):
+                    has_room(lay, obj, c, axis) for lay, c in checks):
                 return axis
     return None

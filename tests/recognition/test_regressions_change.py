@@ -85,3 +85,16 @@ def test_a_block_hidden_behind_one_of_its_height_is_placed_at_the_hands_height()
     assert_sequence(sc, actions)
     places = [op for op in actions["operations"] if op["operation"].startswith("PLACE")]
     assert [op["target"] for op in places] == [["table"]] * 8
+
+
+def test_a_grid_corner_taken_from_a_cluster_is_placed():
+    """The last cube of a 2x2 grid 2 mm apart leaves the fingers room on neither axis
+    where it goes; where it is taken, 20 mm from one neighbour and 30 mm from another,
+    only across y. Taken across x, the soft fingers stood half inside a neighbour and the
+    grip came out 4 mm off: the place was read on the three cubes around it, a NO-OP
+    (helper round 12, v11d). The hand now takes it with the axis that has room there
+    (wrist.squeeze_axis)."""
+    sc, _, actions = watch_file(DATA / "grid-of-20mm-cubes-from-a-cluster.yaml")
+    assert_sequence(sc, actions)
+    places = [op for op in actions["operations"] if op["operation"].startswith("PLACE")]
+    assert [op["target"] for op in places] == [["table"]] * 4
