@@ -176,7 +176,9 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
                                   "cube-10mm-6mm-behind-a-60mm-block.yaml",
                                   "cube-10mm-30mm-behind-a-60mm-block.yaml",
                                   "cube-10mm-6mm-beside-a-60mm-block.yaml",
-                                  "cube-set-aside-beside-a-capped-post.yaml"],
+                                  "cube-set-aside-beside-a-capped-post.yaml",
+                                  "cube-10mm-25mm-in-front-of-an-80mm-post.yaml",
+                                  "cube-10mm-6mm-in-front-of-a-60mm-block.yaml"],
                          ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside",
                               "withdraw-beside-a-block", "post-the-plan-leaves-alone",
                               "pick-beside-a-touching-block", "picked-where-just-put",
@@ -184,7 +186,8 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
                               "picked-before-a-taller-block", "pushed-into-a-corner",
                               "pushed-into-a-corner-last", "stepped-aside-from-a-tall-tower",
                               "small-pick-hidden-behind-a-block", "small-cube-behind-a-block",
-                              "small-pick-beside-a-tall-block", "set-aside-under-no-overhang"])
+                              "small-pick-beside-a-tall-block", "set-aside-under-no-overhang",
+                              "small-cube-before-a-post", "small-cube-before-a-block"])
 def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     """Fault-free runs of users' scenarios (helper round 4): the monitor must not see a
     difference and redo an ACHIEVE (search.py leaving; matching.py _covered). Helper
@@ -203,7 +206,9 @@ def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     behind a 60 mm block was read 51 mm tall by the finder (objects_hidden), its pick
     named the block (search.confirm) or, still behind it, was judged before the hand
     rose into view (ChangeNode.too_small). Round 11 (32): a cube set aside 2 mm under a
-    plate's overhang was hidden from above (clearing._clear keeps the column free)."""
+    plate's overhang was hidden from above (clearing._clear keeps the column free).
+    Round 12 (v26b) and round 11 (v53b): a 10 mm cube in front of a taller block was
+    read 82-100 mm tall (objects_hidden._in_front_of)."""
     from lbw_engine.pipeline.run import run
     from perception.world.scenario import load
 

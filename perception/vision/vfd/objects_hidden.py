@@ -26,6 +26,7 @@ APART_MM = 10.0  # a nearer block stands this far in front: not a ring of the sa
 # 6 mm behind a 60 mm block read 55 mm tall (helper round 11, v53a); a measured face
 # keeps the wider gap (the top of a stack of three sizes, a ring strip 10 mm in front)
 SEARCHED_APART_MM = 3.0
+FIT_MM = 6.0  # a searched height this near a shape's (its footprint's) is that shape's
 
 Footprint = Callable[[tuple, float], tuple[float, float, float, float]]
 
@@ -43,6 +44,11 @@ def unseen_heights(boxes: list[Box], cam, size: tuple[int, int], footprint: Foot
     whole = Window("side", 0, 0, size[0], size[1])
     out = list(boxes)
     for k, (h, fp, rect) in enumerate(boxes):
+        if k not in measured:
+            lower = _in_front_of(k, boxes, cam, whole, footprint, shapes)
+            if lower is not None:
+                out[k] = lower
+                continue
         apart = APART_MM if k in measured else SEARCHED_APART_MM
         nearer = [b for j, b in enumerate(boxes) if j != k and b[1][3] < fp[1] - apart]
         if not nearer or any(j != k and (holds_centre(r, rect) or holds_centre(rect, r))
@@ -58,6 +64,29 @@ def unseen_heights(boxes: list[Box], cam, size: tuple[int, int], footprint: Foot
                 out[k] = (z, footprint(rect, z), rect)
                 break
     return out
+
+
+def _in_front_of(k: int, boxes: list[Box], cam, whole: Window, footprint: Footprint,
+                 shapes: Mapping[str, Sequence[float]]) -> Box | None:
+    """Box ``k`` (a searched height) lowered to a height of a shape its footprint names,
+    when no such shape is as tall as the search found and the column above that height
+    lies on the image of blocks behind it: the search ran on up their faces to their top
+    edge (helper round 12, v26b: a 10 mm cube 25 mm in front of an 80 mm pillar read
+    100 mm tall, then split into a phantom cube on the pillar). None: keep it."""
+    h, fp, rect = boxes[k]
+    heights = heights_of(fp, shapes)
+    stacked = [t + float(s[2]) for t in heights for s in shapes.values()]  # on one block
+    if not heights or any(abs(t - h) <= FIT_MM for t in [*heights, *stacked]):
+        return None  # its shape's height, or a stack of two (a brick on a brick)
+    behind = [b for j, b in enumerate(boxes) if j != k and b[1][1] >= fp[3]]
+    if not behind:
+        return None
+    back = regions_mask(cam, [Region3D((a0, b0, 0.0), (a1, b1, g))
+                              for g, (a0, b0, a1, b1), _ in behind], whole)
+    for z in sorted((t for t in heights if t < h - 3.0), reverse=True):
+        if _hidden(cam, whole, back, footprint(rect, h), h, z):
+            return (z, footprint(rect, z), rect)
+    return None
 
 
 def _hidden(cam, window: Window, front, fp: tuple[float, float, float, float], z: float,
