@@ -28,7 +28,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from perception.world.hand import Gripper, grasp_offset, pre_shape
+from perception.world.hand import TIP, Gripper, grasp_offset, pre_shape
 from perception.world.layout import Layout
 from perception.world.physics import World
 from perception.world.scene import Box
@@ -43,6 +43,7 @@ V_SLIDE = 12.0
 NEAR_LIMIT = 160.0  # mm: approach start above the target's top (visual search reach)
 ENTRY = (-480.0, 200.0, 230.0)  # off the table, where the hand comes from and goes to
 ABSENT = 1.0  # s without the hand at the start and the end (initial/final state views)
+TURN_CLEAR_MM = 10.0  # the fingertips this far above the scene's top when the wrist turns
 MAX_Z = 285.0  # mm: the hand stays within the cameras' view (z <= 300)
 HOVER = -0.1  # mm: a placed block is let go just touching (the contact slop), no drop
 QUIET = 0.1  # tremor scale during fine motions: the fingers do not shake blocks into others
@@ -159,6 +160,12 @@ class _Planner:
         rise = min(float(self.rng.uniform(100, 140)), NEAR_LIMIT - (grip[2] - target_top),
                    MAX_Z - grip[2])
         above = _add(grip, _add(self.lateral(8, 20), (0, 0, rise)))
+        low = self.p[2] - TIP < scene_top + TURN_CLEAR_MM
+        if "turn" in pre and low and self.segs[-1].step >= 0:
+            # the open fingers turn only above everything: turned 120 mm up beside a 150 mm
+            # pillar, they swept it over (helper round 12, 14)
+            up = (self.p[0], self.p[1], min(MAX_Z, scene_top + TIP + TURN_CLEAR_MM))
+            self.move("depart", self.segs[-1].step, up, V_DEPART)
         self.transfer(step, above, scene_top, pre)
         self.hesitate(step)
         self.move("approach", step, grip, V_APPROACH)
