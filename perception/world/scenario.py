@@ -1,11 +1,10 @@
 """Scenario files (design.md "Scenario file"): strict loading into typed records.
 
-A scenario names a shape database, a teaching workspace, the demonstration the
-human performs in it, and optionally an execution workspace. Everything is
-checked at load time; a bad file raises ``InputError`` naming the file, the
-line and the key path (e.g. ``teach.demonstration[3].on``). The geometric
-checks (boxes on the table, no overlaps, places resting on their supports)
-replay the demonstration symbolically in ``perception.world.layout``.
+A scenario names a shape database, a teaching workspace, the demonstration the human
+performs in it, and optionally an execution workspace. Everything is checked at load time;
+a bad file raises ``InputError`` naming the file, the line and the key path (e.g.
+``teach.demonstration[3].on``). The geometric checks (boxes on the table, no overlaps, places
+resting on their supports) replay the demonstration symbolically (``perception.world.layout``).
 """
 
 from __future__ import annotations
@@ -24,8 +23,7 @@ from perception.world.layout import Layout, replay
 NAME_RE = re.compile(r"[a-z][a-z0-9_-]*\Z")
 RESERVED = frozenset({"table", "hand"})
 SIZE_RANGE = (10.0, 200.0)  # mm per axis (design.md)
-# Noise ranges (docs/world.md "Input limits"): beyond them the images or the
-# demonstration's duration stop making sense (a speed factor near 0 never ends).
+# Noise ranges (docs/world.md "Input limits"): beyond them images or durations stop making sense
 PIXEL_RANGE = (0.0, 64.0)  # gray levels, std-dev
 TREMOR_RANGE = (0.0, 20.0)  # mm, std-dev
 SPEED_RANGE = (0.25, 4.0)  # demonstrator speed factor
@@ -213,7 +211,9 @@ def _name(cx: _Ctx, value: Any, parent: Any, key: Any, where: str) -> str:
 
 
 def _shapes(cx: _Ctx, raw: Any, doc: Any) -> dict[str, tuple[float, float, float]]:
-    """The shape database: name -> [x, y, z] size in mm, each within 10-200 mm."""
+    """The shape database: name -> [x, y, z] size in mm, each within 10-200 mm. Shapes of
+    one size are one to the cameras: an object of either takes the first one's name (a
+    red and a blue cube: the finder named both red, helper round 11's 122)."""
     if not isinstance(raw, dict) or not raw:
         raise cx.fail("must be a non-empty mapping of name -> [x, y, z]", doc, "shapes", "shapes")
     out = {}
@@ -297,6 +297,7 @@ def _workspace(cx: _Ctx, raw: Any, parent: Any, where: str, shapes: dict) -> Wor
         at = _vector(cx, value["at"], 2, value, "at", f"{w}.at") if "at" in value else None
         if at is None and on == ("table",):
             raise cx.fail("missing required key 'at' (x, y on the table)", value, None, f"{w}.at")
+        shape = next(n for n, size in shapes.items() if size == shapes[shape])  # _shapes
         specs[key] = {"shape": shape, "size": shapes[shape], "on": on, "at": at, "raw": value}
     for key, spec in specs.items():
         for s in spec["on"]:

@@ -197,3 +197,15 @@ def test_a_repair_on_top_of_a_250mm_tower_leaves_the_tower_standing():
     report = result.execution.report
     assert report["verification"] == {"cameras": True, "ground_truth": True}
     assert {d["object"] for d in report["monitor"]["detections"]} == {"e"}
+
+
+def test_two_shape_names_of_one_size_are_one_shape():
+    """'red' and 'blue' cubes of one size: the finder names every such cube by the first
+    name, so an object of either takes it at load (scenario._shapes). Recognition had
+    stopped: "the object 'red1' (red) ... is not in the teach workspace"."""
+    sc = load(DATA / "two-shape-names-of-one-size.yaml")
+    assert {o.shape for o in sc.teach.objects.values()} == {"red"}
+    result = run(sc)
+    assert result.recognition["exact"], result.recognition["difference"]
+    assert result.failure is None, result.failure
+    assert result.execution.report["verification"] == {"cameras": True, "ground_truth": True}
