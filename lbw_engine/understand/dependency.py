@@ -13,7 +13,7 @@ Relations between two operators OPᵢ (earlier) and OPⱼ (later):
   at A (helper round 10, v24a).
 * S-S: OPⱼ puts an object where OPᵢ took another from (an SC⁻ and a later SC⁺
   relation of one frame, ``:wrt``, whose ``:at`` differ by less than analysis.yaml's
-  ``same-spot`` on every axis; ordered). Blocks are at least 10 mm on a side, so two
+  ``same-spot`` in x and y; ordered). Blocks are at least 10 mm on a side, so two
   at rest that close share their spot. A cube put at A, then moved on, and a brick
   then put at A had the brick's ACHIEVE in parallel with the cube's first, and the
   robot found A taken (helper round 11, 93).
@@ -41,6 +41,7 @@ from collections.abc import Iterable
 
 import networkx as nx
 
+from lbw_engine.names import TABLE
 from lbw_engine.rules.analysis import AnalysisRules
 from lbw_engine.understand.state import Operator, make_operator
 
@@ -103,14 +104,16 @@ class _Index:
     def _same_spot_edges(self, mm: float) -> set[tuple[int, int]]:
         """S-S: (i, j) where OPⱼ puts an object within ``mm`` of where OPᵢ, earlier, took
         another from. Left spots are kept in a grid of ``mm`` cells, so a place looks
-        only at the 27 cells around it."""
+        only at the 9 cells around it."""
         out: set[tuple[int, int]] = set()
         if mm <= 0:
             return out
         left: dict[tuple, list[tuple[int, str, tuple[float, ...]]]] = defaultdict(list)
 
         def cell(wrt: str | None, at: tuple[float, ...]) -> tuple:
-            return (wrt, *(int(c // mm) for c in at))
+            # x and y only: :at's z is a centre height, half a block's height apart for
+            # blocks of other heights on one spot (a brick where a cube stood)
+            return (wrt or TABLE, *(int(c // mm) for c in at[:2]))
 
         for j, op in enumerate(self.ops):
             for r in op.sc_plus:
@@ -121,7 +124,7 @@ class _Index:
                     key = (c[0], *(a + b for a, b in zip(c[1:], d, strict=True)))
                     out.update((i, j) for i, subject, at in left.get(key, ())
                                if subject != r.subject and all(
-                                   abs(a - b) < mm for a, b in zip(at, r.at, strict=True)))
+                                   abs(a - b) < mm for a, b in zip(at[:2], r.at[:2], strict=True)))
             for r in op.sc_minus:
                 if r.at is not None:
                     left[cell(r.wrt, r.at)].append((j, r.subject, r.at))
@@ -144,7 +147,7 @@ class _Index:
         return out
 
 
-_NEAR_CELLS = [(a, b, c) for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)]
+_NEAR_CELLS = [(a, b) for a in (-1, 0, 1) for b in (-1, 0, 1)]
 
 
 def _components(nodes: Iterable[int], edges: Iterable[tuple[int, int]]) -> list[list[int]]:

@@ -131,6 +131,11 @@ SPOT_REUSED = {
     "initial-spot-filled": ("a: {shape: c40, at: [0, 200]}\n"
                             "    b: {shape: brick, at: [200, 100]}\n",
                             [("a", [-150, 300]), ("b", [0, 200])]),
+    # the spot's next block is a post twice the cube's height: centres 20 mm apart in z
+    # (helper review of stop 29: S-S compared z too, and missed it)
+    "filled-by-a-taller-block": ("a: {shape: c40, at: [-200, 100]}\n"
+                                 "    b: {shape: post, at: [200, 100]}\n",
+                                 [("a", [0, 200]), ("a", [0, 330]), ("b", [0, 200])]),
 }
 
 
@@ -144,6 +149,7 @@ def test_a_place_on_a_spot_another_left_comes_after_that_move(case):
     demo = "".join(f"    - pick: {o}\n    - place: {o}\n      on: table\n      at: {at}\n"
                    for o, at in moves)
     sc = load_text("name: spot-reused\nshapes:\n  c40: [40, 40, 40]\n  brick: [60, 30, 30]\n"
+                   "  post: [30, 30, 80]\n"
                    f"teach:\n  objects:\n    {objects}  demonstration:\n{demo}")
     rules = load_rules()
     result = analyze(parse_actions(to_actions(oracle_recognizer(sc, rules)),
