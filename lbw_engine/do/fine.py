@@ -148,19 +148,26 @@ def _near_sides(focus: str, goal: Vec, k: int, rules: CommandRules,
     """The sides (-1, +1 along ``k``) where a block beside the goal, level with it, is
     nearer than ``fine-motion.snap-gap``: set straight down, a measurement error would put
     the two into each other."""
+    return sorted(side for side, gap in _side_gaps(focus, goal, k, model).items()
+                  if gap < rules.fine.snap_gap)
+
+
+def _side_gaps(focus: str, goal: Vec, k: int, model: EnvModel) -> dict[int, float]:
+    """The gap (mm) to the nearest block beside the goal on each side (-1, +1) along ``k``,
+    of those level with it and facing it across ``k``."""
     size = model.bodies[focus].size
     ignore = jaws.moving(focus, model)
-    sides = set()
+    o = 1 - k
+    gaps: dict[int, float] = {}
     for name, b in model.bodies.items():
-        if name in ignore:
-            continue
-        o = 1 - k
         level = (size[2] + b.size[2]) / 2 - abs(goal[2] - b.position[2]) > 0.5
         beside = (size[o] + b.size[o]) / 2 - abs(goal[o] - b.position[o]) > 0.5
+        if name in ignore or not (level and beside):
+            continue
+        side = 1 if b.position[k] > goal[k] else -1
         gap = abs(goal[k] - b.position[k]) - (size[k] + b.size[k]) / 2
-        if level and beside and gap < rules.fine.snap_gap:
-            sides.add(1 if b.position[k] > goal[k] else -1)
-    return sorted(sides)
+        gaps[side] = min(gap, gaps.get(side, math.inf))
+    return gaps
 
 
 def _blocked_sides(focus: str, goal: Vec, axis: int, offset: float, rules: CommandRules,
@@ -233,18 +240,7 @@ def _clear_across(focus: str, goal: Vec, k: int, rules: CommandRules, model: Env
     mm put it on that neighbour's edge, it fell off tilted, and the closed jaws came down
     on it and flung it 200 mm (helper round 10, v06c: the last cube of a 2x2 grid
     touching, pushed into its corner)."""
-    size = model.bodies[focus].size
-    ignore = jaws.moving(focus, model)
-    gaps: dict[int, float] = {}
-    for name, b in model.bodies.items():
-        o = 1 - k
-        level = (size[2] + b.size[2]) / 2 - abs(goal[2] - b.position[2]) > 0.5
-        beside = (size[o] + b.size[o]) / 2 - abs(goal[o] - b.position[o]) > 0.5
-        if name in ignore or not (level and beside):
-            continue
-        side = 1 if b.position[k] > goal[k] else -1
-        gap = abs(goal[k] - b.position[k]) - (size[k] + b.size[k]) / 2
-        gaps[side] = min(gap, gaps.get(side, math.inf))
+    gaps = _side_gaps(focus, goal, k, model)
     near = [side for side, gap in gaps.items() if gap < rules.fine.snap_gap]
     if len(near) != 1 or gaps.get(-near[0], math.inf) < 2 * rules.fine.snap_gap:
         return goal  # clear already, or no room to step away
