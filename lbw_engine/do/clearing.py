@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 from lbw_engine.do import grasp, jaws
 from lbw_engine.do.plan import Plan, Relation, parents
+from lbw_engine.errors import TaskFailed
 from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import TABLE, TABLE_X, TABLE_Y, Vec, overlap
 from lbw_engine.rules.commands import CommandRules
@@ -37,6 +38,8 @@ BUILD_MARGIN_MM = 60.0  # room kept around the places the plan will fill
 # ... less when nothing is free so far from them, never into them: a 200 x 130 plate
 # lying where its walls go found no spot 60 mm clear of the walls and of its own place
 # on them (helper round 11, v109m: "the spot is occupied by 'p'")
+# (the last lets it stand flush against a build site: 109's plate fits only there, 2 mm
+# from its own site; the jaws of a place there are not checked in advance)
 MARGINS_MM = (BUILD_MARGIN_MM, BUILD_MARGIN_MM / 2, 0.0)
 
 
@@ -91,10 +94,12 @@ def _enclosing(plan: Plan, name: str) -> list[str]:
 
 def plan_set_aside(plan: Plan, name: str, rules: CommandRules,
                    model: EnvModel) -> SetAside | None:
-    """Where and how to put ``name`` down on the table, or None if nowhere is free."""
+    """Where and how to put ``name`` down on the table, or None if nowhere is free.
+    TaskFailed: no grip takes it."""
     body = model.bodies[name]
     if all(jaws.width(body.size, a, rules) is None for a in rules.jaw_axes):
-        return None  # wider than the jaws open, whichever way they close
+        raise TaskFailed(f"'{name}' is {jaws.describe(body.size)} across, wider than the jaws "
+                         f"open whichever way they close: it cannot be set aside")
     axis, off = grasp.choose(name, body.position, rules, model, strict=False)
     for margin in MARGINS_MM:
         avoid = _build_sites(plan, rules, model, margin)

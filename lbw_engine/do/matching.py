@@ -1,6 +1,7 @@
 """Initial-state matching between teaching and execution (Sec. VII-A, steps 1–5).
 
-Pure data in, data out: the taught objects, the objects the plan's root uses,
+Pure data in, data out: the taught objects, the objects the plan uses (its root's, then
+those only an operator names),
 and the objects the object-finder measured in the execution workspace. The
 match goes in two stages with the shape name as the key — measured objects →
 the plan's object list → the taught environment model — so irrelevant objects

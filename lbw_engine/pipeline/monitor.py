@@ -157,9 +157,11 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         if name in unit_names:
             snaps[name] = (m.settled(names), m.final_supports(names))
             # the robot steps aside after each unit (step_aside): the next unit's reach
-            # starts from there. Traced from above its last place instead, a pick of
-            # the block just set down skipped its reach and came down slanted from the
-            # look pose, knocking it away (helper round 10, v24a)
+            # starts beside the table, at LOOK_POSE's x and y (the robot waits there at
+            # least as high as the look pose: the reach's first move, to its approach
+            # height, is then never a null move). Traced from above its last place
+            # instead, a pick of the block just set down skipped its reach and came down
+            # slanted from the look pose, knocking it away (helper round 10, v24a)
             m.move_hand(LOOK_POSE)
 
     tr = trace(plan, rules, model, on_operator=snap)
@@ -231,7 +233,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
             tr = trace(aside, rules, fresh, on_operator=snap, roots=[unit_x.operator])
             todo += units(aside, tr.ops, snaps)
         snaps = {}
-        roots = sorted({u.operator for u in redo + rest}, key=lambda n: rank.get(n, len(rank)))
+        roots = sorted(dict.fromkeys(u.operator for u in redo + rest),
+                       key=lambda n: rank.get(n, len(rank)))
         tr = trace(plan, rules, fresh, on_operator=snap, roots=roots)
         todo += units(plan, tr.ops, snaps)
         out.model = tr.model

@@ -115,11 +115,11 @@ def hold_axis(scenario, i: int) -> int | None:
 
 def squeeze_axis(scenario, i: int) -> int | None:
     """For a hold with no room on either axis (``hold_axis`` None): the axis whose
-    fingers have room where the block is taken, if one has; the fingertips then squeeze
-    in only where it is put down. Taken with the other axis from a cluster of 20 mm
-    cubes 20 mm apart, the fingers stood half inside a neighbour, and the hand-tracker's
-    grip came out 4 mm off: the place at the corner of a grid was read on the three
-    cubes around it (helper round 12, v11d)."""
+    fingers have room where the block is taken, if one has (the fingers are soft for
+    the whole hold, but only at the place do they need to be). Taken with the other
+    axis from a cluster of 20 mm cubes 20 mm apart, the fingers stood half inside a
+    neighbour, and the hand-tracker's grip came out 4 mm off: the place at the corner
+    of a grid was read on the three cubes around it (helper round 12, v11d)."""
     before = scenario.states[i - 1] if i else scenario.teach.layout()
     obj = scenario.demonstration[i].obj
     return _first_with_room(before.size[obj], obj, [(before, before.center[obj])])
