@@ -22,6 +22,7 @@ free spot where it can be let go one way and taken again the other.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 from lbw_engine.do import grasp, jaws
@@ -97,15 +98,12 @@ def plan_set_aside(plan: Plan, name: str, rules: CommandRules,
     """Where and how to put ``name`` down on the table, or None if nowhere is free.
     TaskFailed: no grip takes it."""
     body = model.bodies[name]
-    if all(jaws.width(body.size, a, rules) is None for a in rules.jaw_axes):
-        raise TaskFailed(f"'{name}' is {jaws.describe(body.size)} across, wider than the jaws "
-                         f"open whichever way they close: it cannot be set aside")
+    if not jaws.fitting_axes(body.size, rules):
+        raise TaskFailed(jaws.too_wide(name, body.size, rules) + ": it cannot be set aside")
     axis, off = grasp.choose(name, body.position, rules, model, strict=False)
-    for margin in MARGINS_MM:
-        avoid = _build_sites(plan, rules, model, margin)
-        for spot in table_spots(body.position, body.size):
-            if _clear(name, spot, axis, off, rules, model, avoid):
-                return SetAside(name, body.position, spot, axis, off)
+    for spot, avoid in _candidates(plan, name, rules, model):
+        if _clear(name, spot, axis, off, rules, model, avoid):
+            return SetAside(name, body.position, spot, axis, off)
     return None
 
 
@@ -116,15 +114,24 @@ def plan_regrasp(plan: Plan, name: str, picks: list[tuple[int, float]],
     free table spot where one of ``picks`` can let go of it and one of ``places`` can
     take it up, nearest it first."""
     body = model.bodies[name]
+    for spot, avoid in _candidates(plan, name, rules, model):
+        for axis, off in picks:
+            if _clear(name, spot, axis, off, rules, model, avoid) and any(
+                    jaws.blocker(name, spot, a, o, rules, model) is None for a, o in places):
+                return SetAside(name, body.position, spot, axis, off)
+    return None
+
+
+def _candidates(plan: Plan, name: str, rules: CommandRules, model: EnvModel
+                ) -> Iterator[tuple[Vec, list[tuple[Vec, Vec]]]]:
+    """Table spots for ``name``, nearest it first, each with the build sites it must keep
+    clear of: grown by each of MARGINS_MM in turn."""
+    body = model.bodies[name]
+    spots = table_spots(body.position, body.size)
     for margin in MARGINS_MM:
         avoid = _build_sites(plan, rules, model, margin)
-        for spot in table_spots(body.position, body.size):
-            for axis, off in picks:
-                if _clear(name, spot, axis, off, rules, model, avoid) and any(
-                        jaws.blocker(name, spot, a, o, rules, model) is None
-                        for a, o in places):
-                    return SetAside(name, body.position, spot, axis, off)
-    return None
+        for spot in spots:
+            yield spot, avoid
 
 
 def support_on_table(name: str, rules: CommandRules) -> Relation:
@@ -174,14 +181,12 @@ def _clear(name: str, spot: Vec, axis: int, off: float, rules: CommandRules,
     ignore = jaws.moving(name, model)
     if any(overlap(spot, size, c, s, tol=0.0) for c, s in avoid):
         return False
-    if any(overlap(spot, size, b.position, b.size, tol=-rules.jaw_clearance)
-           for n, b in model.bodies.items() if n not in ignore):
-        return False
-    # nothing overhangs it either: a cube set aside 2 mm under a plate's overhang was
-    # hidden from above, and the robot watch saw its place as a NO-OP (helper round 11, 32)
+    # nor anything over it: a cube set aside 2 mm under a plate's overhang was hidden
+    # from above, and the robot watch saw its place as a NO-OP (helper round 11, 32)
     above = (spot[0], spot[1], (spot[2] + size[2] / 2 + SKY_MM) / 2)
     column = (size[0], size[1], SKY_MM - spot[2] - size[2] / 2)
-    if any(overlap(above, column, b.position, b.size, tol=0.0)
+    if any(overlap(spot, size, b.position, b.size, tol=-rules.jaw_clearance)
+           or overlap(above, column, b.position, b.size, tol=0.0)
            for n, b in model.bodies.items() if n not in ignore):
         return False
     return jaws.blocker(name, spot, axis, off, rules, model) is None

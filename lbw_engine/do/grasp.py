@@ -45,13 +45,10 @@ def choose(focus: str, centre: Vec, rules: CommandRules, model: EnvModel,
     falls back to the first way the jaws fit.
     """
     size = model.bodies[focus].size
-    fits = [a for a in rules.jaw_axes if jaws.width(size, a, rules) is not None]
+    fits = jaws.fitting_axes(size, rules)
     if not fits:
         if strict:
-            raise TaskFailed(
-                f"'{focus}' is {jaws.describe(size)} across, wider than the jaws open "
-                f"({rules.max_opening:g} mm with {rules.margin:g} mm to spare) whichever way "
-                "they close")
+            raise TaskFailed(jaws.too_wide(focus, size, rules))
         return rules.jaw_axes[0], 0.0
     pushed: Grip | None = None
     picks: list[Grip] = []

@@ -29,6 +29,18 @@ def width(size: Vec, axis: int, rules: CommandRules) -> float | None:
     return w if w <= rules.max_opening + 1e-9 else None
 
 
+def fitting_axes(size: Vec, rules: CommandRules) -> list[int]:
+    """The jaw axes whose opening takes an object of ``size`` (``width``)."""
+    return [a for a in rules.jaw_axes if width(size, a, rules) is not None]
+
+
+def too_wide(name: str, size: Vec, rules: CommandRules) -> str:
+    """Why no jaw axis takes ``name`` (``fitting_axes`` empty)."""
+    return (f"'{name}' is {describe(size)} across, wider than the jaws open "
+            f"({rules.max_opening:g} mm with {rules.margin:g} mm to spare) whichever way "
+            "they close")
+
+
 def tool_point(centre: Vec, size: Vec, axis: int, offset: float, rules: CommandRules) -> Vec:
     """Where the arm's tool point goes to grip an object centred at ``centre``."""
     p = [centre[0], centre[1], centre[2] + rules.grip_offset(size)]
