@@ -54,8 +54,7 @@ def unseen_heights(boxes: list[Box], cam, size: tuple[int, int], footprint: Foot
         if not nearer or any(j != k and (holds_centre(r, rect) or holds_centre(rect, r))
                              for j, (_, _, r) in enumerate(boxes)):
             continue  # nothing in front; or a face of a stack, whose column the seams read
-        front = regions_mask(cam, [Region3D((a0, b0, 0.0), (a1, b1, g))
-                                   for g, (a0, b0, a1, b1), _ in nearer], whole)
+        front = _columns(cam, nearer, whole)
         if not _hidden(cam, whole, front, footprint(rect, h), h) and (
                 k in measured or not _hidden(cam, whole, front, footprint(rect, h), h, 0.0)):
             continue
@@ -81,12 +80,17 @@ def _in_front_of(k: int, boxes: list[Box], cam, whole: Window, footprint: Footpr
     behind = [b for j, b in enumerate(boxes) if j != k and b[1][1] >= fp[3]]
     if not behind:
         return None
-    back = regions_mask(cam, [Region3D((a0, b0, 0.0), (a1, b1, g))
-                              for g, (a0, b0, a1, b1), _ in behind], whole)
+    back = _columns(cam, behind, whole)
     for z in sorted((t for t in heights if t < h - 3.0), reverse=True):
         if _hidden(cam, whole, back, footprint(rect, h), h, z):
             return (z, footprint(rect, z), rect)
     return None
+
+
+def _columns(cam, boxes: Sequence[Box], window: Window):
+    """The mask of ``boxes``' images, each a column from the table up to its top face."""
+    return regions_mask(cam, [Region3D((a0, b0, 0.0), (a1, b1, g))
+                              for g, (a0, b0, a1, b1), _ in boxes], window)
 
 
 def _hidden(cam, window: Window, front, fp: tuple[float, float, float, float], z: float,
