@@ -133,9 +133,7 @@ class World:
         bb, (y0, y1) = self.shapes[name].bb, self.extent(name, 1)
         for n in self.names:
             ob, (b0, b1) = self.shapes[n].bb, self.extent(n, 1)
-            if n != name and min(bb.right + dx, ob.right) - max(bb.left + dx, ob.left) > SLOP \
-                    and min(y1 + dy, b1) - max(y0 + dy, b0) > SLOP \
-                    and min(bb.top, ob.top) - max(bb.bottom, ob.bottom) > SLOP:
+            if n != name and _meet_xz(bb, ob, dx) and min(y1 + dy, b1) - max(y0 + dy, b0) > SLOP:
                 return False
         return True
 
@@ -146,8 +144,7 @@ class World:
         out = dy
         for n in self.names:
             ob, (olo, ohi) = self.shapes[n].bb, self.extent(n, 1)
-            if n == name or min(bb.top, ob.top) - max(bb.bottom, ob.bottom) <= SLOP or \
-                    min(bb.right, ob.right) - max(bb.left, ob.left) <= SLOP:
+            if n == name or not _meet_xz(bb, ob):
                 continue  # not level with it, or beside its path: never met
             if dy > 0 and olo >= hi - SLOP:
                 out = min(out, max(0.0, olo - hi))
@@ -248,8 +245,7 @@ class World:
         if d == 0.0:
             return
         for other, ob in among.items():
-            if min(bb.right, ob.right) - max(bb.left, ob.left) <= SLOP or \
-                    min(bb.top, ob.top) - max(bb.bottom, ob.bottom) <= SLOP:
+            if not _meet_xz(bb, ob):
                 continue  # they only graze in x-z: they never meet
             lo, hi = self.extent(other, 1)
             if d > 0 and span0[1] <= lo + Y_TOUCH < span1[1]:
@@ -392,3 +388,10 @@ class World:
     def kinetic(self) -> float:
         """Largest block speed (mm/s); near zero when everything rests."""
         return max((self.shapes[n].body.velocity.length for n in self.names), default=0.0)
+
+
+def _meet_xz(a: pymunk.BB, b: pymunk.BB, dx: float = 0.0) -> bool:
+    """Whether two x-z boxes (``a`` moved by ``dx`` along x) overlap by more than SLOP on
+    both axes: blocks that do not could pass each other along y."""
+    return min(a.right + dx, b.right) - max(a.left + dx, b.left) > SLOP and \
+        min(a.top, b.top) - max(a.bottom, b.bottom) > SLOP
