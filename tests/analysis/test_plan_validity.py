@@ -98,22 +98,28 @@ MOVED_AGAIN = {
 }
 
 
-@pytest.mark.parametrize("case", sorted(MOVED_AGAIN))
-def test_the_moves_of_one_object_stay_in_their_order(case):
+def _taught(shapes: str, objects: str, moves) -> tuple[dict, list]:
+    """The plan learned (through the oracle recognizer) from picks and places of
+    ``moves`` (object, support, at): the plot paths of its operators, and its ACHIEVEs in
+    demonstration order."""
     from lbw_engine.see.actions import to_actions
     from perception.world.oracle import oracle_recognizer
     from perception.world.scenario import load_text
 
-    objects, moves = MOVED_AGAIN[case]
     demo = "".join(f"    - pick: {o}\n    - place: {o}\n      on: {on}\n      at: {at}\n"
                    for o, on, at in moves)
-    sc = load_text("name: moved-again\nshapes:\n  c20: [20, 20, 20]\n  plate: [120, 120, 10]\n"
+    sc = load_text(f"name: taught\nshapes:\n{shapes}"
                    f"teach:\n  objects:\n    {objects}  demonstration:\n{demo}")
     rules = load_rules()
     result = analyze(parse_actions(to_actions(oracle_recognizer(sc, rules)),
                                    RelationTable(rules.analysis.tolerance)), rules.analysis)
-    paths = _paths(result.plan)
-    ops = sorted(result.achieves, key=lambda o: o.lo)
+    return _paths(result.plan), sorted(result.achieves, key=lambda o: o.lo)
+
+
+@pytest.mark.parametrize("case", sorted(MOVED_AGAIN))
+def test_the_moves_of_one_object_stay_in_their_order(case):
+    objects, moves = MOVED_AGAIN[case]
+    paths, ops = _taught("  c20: [20, 20, 20]\n  plate: [120, 120, 10]\n", objects, moves)
     again = [(a, b) for i, a in enumerate(ops) for b in ops[i + 1:] if a.base & b.base]
     assert again
     for a, b in again:
@@ -141,21 +147,9 @@ SPOT_REUSED = {
 
 @pytest.mark.parametrize("case", sorted(SPOT_REUSED))
 def test_a_place_on_a_spot_another_left_comes_after_that_move(case):
-    from lbw_engine.see.actions import to_actions
-    from perception.world.oracle import oracle_recognizer
-    from perception.world.scenario import load_text
-
     objects, moves = SPOT_REUSED[case]
-    demo = "".join(f"    - pick: {o}\n    - place: {o}\n      on: table\n      at: {at}\n"
-                   for o, at in moves)
-    sc = load_text("name: spot-reused\nshapes:\n  c40: [40, 40, 40]\n  brick: [60, 30, 30]\n"
-                   "  post: [30, 30, 80]\n"
-                   f"teach:\n  objects:\n    {objects}  demonstration:\n{demo}")
-    rules = load_rules()
-    result = analyze(parse_actions(to_actions(oracle_recognizer(sc, rules)),
-                                   RelationTable(rules.analysis.tolerance)), rules.analysis)
-    paths = _paths(result.plan)
-    ops = sorted(result.achieves, key=lambda o: o.lo)
+    paths, ops = _taught("  c40: [40, 40, 40]\n  brick: [60, 30, 30]\n  post: [30, 30, 80]\n",
+                         objects, [(o, "table", at) for o, at in moves])
     filler = ops[-1]  # b's ACHIEVE, onto the spot a left
     leaves = next(o for o in ops if "a" in o.base and o.lo == max(
         p.lo for p in ops if "a" in p.base))
