@@ -25,6 +25,7 @@ from perception.vision.vfd import objects_seams as seams
 from perception.vision.vfd.base import DARK_MAX, VFD
 from perception.vision.vfd.objects_columns import Columns
 from perception.vision.vfd.objects_hidden import unseen_heights
+from perception.vision.vfd.objects_legs import legs_under
 from perception.vision.vfd.objects_match import SilhouetteCheck, assign, frames, nearest
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
@@ -76,7 +77,8 @@ class ObjectFinder(VFD):
         # Correspondence (Sec. III-B): every top face proposes (score, height, side face)
         # candidates; a side-view top face belongs to one block only, and the pairing
         # must explain both whole views (vfd_objects_match).
-        cands = [self._heights(rect, labels, areas, solid) for rect in faces]
+        cands = [self.columns.candidates(rect, labels, areas, solid, MIN_SCORE, CANDIDATES)
+                 for rect in faces]
         fallback: dict[int, tuple[float, float]] = {}
 
         def paired(k: int, pairing: dict[int, tuple[float, float]]) -> bool:
@@ -168,6 +170,10 @@ class ObjectFinder(VFD):
             stack = self._hidden_stack(single, base, boxes[k][1][1], side_img, shapes,
                                        rings.get(k), boxes[k][2])
             if not stack and single.mismatch >= STACK_MISMATCH_MM:
+                stack = [FoundObject(*r) for r in legs_under(
+                    self.cameras["side"], side_img, single, base, boxes[k][1][1], shapes,
+                    min(min(v[:2]) for v in shapes.values())) or []]
+            if not stack and single.mismatch >= STACK_MISMATCH_MM:
                 # a face taken for the rim of one block may hold up another as well: a
                 # plank's top between the two cubes standing on its ends (fault seed 3004)
                 single = min(single, column(k, on_rims=True)[0], key=lambda f: f.mismatch)
@@ -188,7 +194,8 @@ class ObjectFinder(VFD):
 
     def _hidden_stack(self, obj: FoundObject, base: float, front: float, side: np.ndarray,
                       shapes: Mapping[str, Sequence[float]], ring=None, face=None,
-                      better: bool = False, x_seen: bool = True) -> list[FoundObject] | None:
+                      better: bool = False, x_seen: bool = True, above=None
+                      ) -> list[FoundObject] | None:
         """Two stacked blocks where the top view shows at most a thin ring of the lower one.
 
         The column under the top face is then too tall for any shape. The side view
@@ -207,9 +214,13 @@ class ObjectFinder(VFD):
         cx, cy = obj.position[:2]
         best = None
         for top_name, (tx, ty, tz) in shapes.items():
+            # ``above``: the footprint of a block on this column, which hides a block as
+            # wide as it but for a ring too thin to see: only its front face shows how
+            # wide it is (a 50 mm slab between 40 mm cubes, helper round 11, 44)
+            hidden = above is not None and rims.inside_thin_ring(above, (tx, ty))
             if abs(tx - sx) + abs(ty - sy) <= STACK_MISMATCH_MM:
                 tx, ty = sx, sy  # the measured face is the upper block's own
-            elif not rims.inside_thin_ring((tx, ty), (sx, sy)):
+            elif not hidden and not rims.inside_thin_ring((tx, ty), (sx, sy)):
                 continue  # else the face is the outline of thin rings around it
             rest = sz - tz
             seam = base + rest
@@ -252,7 +263,11 @@ class ObjectFinder(VFD):
             # blocks stacked, the middle one named 50 mm)
             up = rims.width_at(cam, side, (cx, front, seam + tz / 2.0)) if lows else None
             for low_name, low_at, low_size, low_err, of_ring in lows:
-                if not of_ring and (tx, ty) != (sx, sy):
+                if hidden and (tx, ty) != (sx, sy):
+                    if up is None:
+                        continue
+                    face_err = 0.0  # its front face's width (below) is all there is
+                elif not of_ring and (tx, ty) != (sx, sy):
                     # The face measured is the thin rings' outer edge, the lower block's
                     # outline: that is what it must match, not the upper block hidden
                     # inside (a cube in a block's 5 mm ring paid the 10 mm ring twice and
@@ -277,7 +292,8 @@ class ObjectFinder(VFD):
         # under a slab that overhangs them by 20 mm, helper round 6's e07)
         deeper = None if low_fit < STACK_MISMATCH_MM else self._hidden_stack(
             replace(low, mismatch=low_fit), base, max(front, low.position[1] - low.size[1] / 2),
-            side, shapes, None, face if ring is None else ring, x_seen=ring is None and x_seen)
+            side, shapes, None, face if ring is None else ring, x_seen=ring is None and x_seen,
+            above=(tx, ty))
         return [*(deeper or [low]), top]
 
     def smallest_face_px(self, shapes: Mapping[str, Sequence[float]]) -> float:
@@ -341,55 +357,3 @@ class ObjectFinder(VFD):
                          for u in (rect[0], rect[2]) for v in (rect[1], rect[3])])
         return (float(pts[:, 0].min()), float(pts[:, 1].min()),
                 float(pts[:, 0].max()), float(pts[:, 1].max()))
-
-    def _heights(self, rect, labels: np.ndarray, areas: np.ndarray, solid: np.ndarray
-                 ) -> list[tuple[float, float, int]]:
-        """Candidate heights of a top face: (score, h, side face label), best few first.
-
-        Lifted to the right height h, the face's footprint projects onto one
-        side-view top-face region and covers it (high intersection over union);
-        lifted elsewhere it falls on a front face, on the background, on a part
-        of some larger face, or on the top face of a block in front of it. The
-        column under the footprint down to the table must also look solid in
-        the side view (the face is supported).
-        """
-        cam = self.cameras["side"]
-
-        def ious(h: float) -> np.ndarray | None:
-            """IoU of the lifted footprint with every side top face, times the solid part."""
-            x0, y0, x1, y1 = self.footprint(rect, h)
-            quad = np.array([[x0, y0, h], [x1, y0, h], [x1, y1, h], [x0, y1, h]])
-            uv = cam.project(quad)
-            ox, oy = np.floor(uv.min(axis=0)).astype(int) - 1
-            ex, ey = np.ceil(uv.max(axis=0)).astype(int) + 2
-            if ox < 0 or oy < 0 or ex > labels.shape[1] or ey > labels.shape[0]:
-                return None
-            mask = np.zeros((ey - oy, ex - ox), np.uint8)
-            cv2.fillConvexPoly(mask, np.rint((uv - (ox, oy)) * 16).astype(np.int32), 1,
-                               cv2.LINE_8, 4)
-            under = labels[oy:ey, ox:ex][mask > 0]
-            counts = np.bincount(under, minlength=len(areas)).astype(float)
-            counts[0] = 0.0
-            if not counts.any():
-                return None
-            iou = counts / (len(under) + areas - counts)
-            return iou * self.columns.solid_fraction(rect, h, solid)
-
-        best: dict[int, tuple[float, float]] = {}  # label -> (score, h) on the coarse grid
-        for h in np.arange(1.0, 300.0, 2.0):
-            sc = ious(h)
-            if sc is None:
-                continue
-            for lab in np.flatnonzero(sc >= MIN_SCORE):
-                if sc[lab] > best.get(lab, (0.0, 0.0))[0]:
-                    best[int(lab)] = (float(sc[lab]), float(h))
-        out = []
-        for lab, (sc0, h0) in sorted(best.items(), key=lambda kv: -kv[1][0])[:CANDIDATES]:
-            fine = []
-            for h in np.arange(h0 - 2.0, h0 + 2.01, 0.25):
-                sc = ious(h)
-                fine.append((float(sc[lab]) if sc is not None else 0.0, float(h)))
-            top = max(fine)[0]
-            hits = [h for s, h in fine if s >= top - 1e-9]
-            out.append((max(sc0, top), float(np.mean(hits)), lab))
-        return sorted(out, reverse=True)

@@ -116,3 +116,55 @@ class Columns:
         n = int(inside.sum())
         return float(solid[oy:oy + mask.shape[0], ox:ox + mask.shape[1]][inside].sum()) / n \
             if n else 0.0
+
+    def candidates(self, rect, labels: np.ndarray, areas: np.ndarray, solid: np.ndarray,
+                   min_score: float, keep: int) -> list[tuple[float, float, int]]:
+        """Candidate heights of a top face: (score, h, side face label), best few first.
+
+        Lifted to the right height h, the face's footprint projects onto one
+        side-view top-face region and covers it (high intersection over union);
+        lifted elsewhere it falls on a front face, on the background, on a part
+        of some larger face, or on the top face of a block in front of it. The
+        column under the footprint down to the table must also look solid in
+        the side view (the face is supported).
+        """
+        cam = self.cameras["side"]
+
+        def ious(h: float) -> np.ndarray | None:
+            """IoU of the lifted footprint with every side top face, times the solid part."""
+            x0, y0, x1, y1 = self.footprint(rect, h)
+            quad = np.array([[x0, y0, h], [x1, y0, h], [x1, y1, h], [x0, y1, h]])
+            uv = cam.project(quad)
+            ox, oy = np.floor(uv.min(axis=0)).astype(int) - 1
+            ex, ey = np.ceil(uv.max(axis=0)).astype(int) + 2
+            if ox < 0 or oy < 0 or ex > labels.shape[1] or ey > labels.shape[0]:
+                return None
+            mask = np.zeros((ey - oy, ex - ox), np.uint8)
+            cv2.fillConvexPoly(mask, np.rint((uv - (ox, oy)) * 16).astype(np.int32), 1,
+                               cv2.LINE_8, 4)
+            under = labels[oy:ey, ox:ex][mask > 0]
+            counts = np.bincount(under, minlength=len(areas)).astype(float)
+            counts[0] = 0.0
+            if not counts.any():
+                return None
+            iou = counts / (len(under) + areas - counts)
+            return iou * self.solid_fraction(rect, h, solid)
+
+        best: dict[int, tuple[float, float]] = {}  # label -> (score, h) on the coarse grid
+        for h in np.arange(1.0, 300.0, 2.0):
+            sc = ious(h)
+            if sc is None:
+                continue
+            for lab in np.flatnonzero(sc >= min_score):
+                if sc[lab] > best.get(lab, (0.0, 0.0))[0]:
+                    best[int(lab)] = (float(sc[lab]), float(h))
+        out = []
+        for lab, (sc0, h0) in sorted(best.items(), key=lambda kv: -kv[1][0])[:keep]:
+            fine = []
+            for h in np.arange(h0 - 2.0, h0 + 2.01, 0.25):
+                sc = ious(h)
+                fine.append((float(sc[lab]) if sc is not None else 0.0, float(h)))
+            top = max(fine)[0]
+            hits = [h for s, h in fine if s >= top - 1e-9]
+            out.append((max(sc0, top), float(np.mean(hits)), lab))
+        return sorted(out, reverse=True)

@@ -2,7 +2,7 @@
 small rectangle and shape-database helpers the finder shares.
 
 Each top-view face proposes a few (score, height, side face) candidates (see
-``ObjectFinder._heights``). A side-view top face is the top of one block only,
+``Columns.candidates``). A side-view top face is the top of one block only,
 so pairs are taken best first. That alone can still pair wrongly: a block's
 footprint lifted to a wrong height lands on the top face of a block in front
 of it on nearly the same view line, and the two fits can score alike. The
