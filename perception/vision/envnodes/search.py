@@ -189,6 +189,13 @@ class SearchNode(EnvNodeBase):
                     cands[below.name] = below
                     todo.append(below)
         hand = np.asarray(self.hand.hand[:2], float)
+        # a block with another on it over the hand is not the one taken: its top there is
+        # covered (a post under a plate's end, nearer the hand than the plate's centre)
+        covered = {name for name in cands if any(
+            r.position is not None and r.size is not None and
+            bool(np.all(np.abs(np.asarray(r.position[:2]) - hand) <= np.asarray(r.size[:2]) / 2))
+            for r in env.get(env.supported_by(name)))}
+        cands = {name: n for name, n in cands.items() if name not in covered} or cands
         dist = {name: float(np.hypot(*(np.asarray(n.position[:2]) - hand)))
                 for name, n in cands.items()}
         near = min(dist.values()) + TIE_MM
