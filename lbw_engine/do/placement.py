@@ -10,10 +10,12 @@ set aside first (setaside.py ``clear_goal``).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Collection, Iterable, Mapping, Sequence
+from dataclasses import replace
 
 from lbw_engine.do.balance import steadied
-from lbw_engine.do.plan import Relation
+from lbw_engine.do.plan import Plan, Relation
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import TABLE, Vec, overlap, top
@@ -44,6 +46,52 @@ def taught_positions(si: Sequence[Relation], support: Collection[str]) -> dict[s
     for name in rels:
         world(name, frozenset())
     return out
+
+
+def anchor_table_places(plan: Plan, support: Collection[str], fixed: Mapping[str, Vec]
+                        ) -> Plan:
+    """``plan`` with each final place on the table kept beside the structure it ends in.
+
+    A table place is in world coordinates (Sec. VII-A). When the object ends in one
+    structure (joined by the final support relations) with an object the plan never
+    moves (``fixed``: its taught position), that object may start anywhere in the
+    execution workspace, and the structure can only stand if the place keeps its
+    offset from it: a post set 90 mm from one that stays, a plate across both
+    (helper round 11, 152: at the taught spot, 100 mm from the staying post, the
+    plate fell between them). Such a place becomes relative to the nearest of those
+    objects (``:wrt`` it), as a place on a block is."""
+    root = plan.operators[plan.root]
+    final = [r for r in (*root.sc_plus, *root.si) if r.type in support]
+    links: dict[str, set[str]] = {}
+    for r in final:
+        for o in r.objects:
+            if o not in NOT_OBJECTS:
+                links.setdefault(r.subject, set()).add(o)
+                links.setdefault(o, set()).add(r.subject)
+
+    def structure(name: str) -> set[str]:
+        seen, todo = {name}, [name]
+        while todo:
+            for n in links.get(todo.pop(), ()):
+                if n not in seen:
+                    seen.add(n)
+                    todo.append(n)
+        return seen
+
+    rewrite: dict[Relation, Relation] = {}
+    for r in root.sc_plus:
+        if r.type in support and r.at is not None and r.wrt in (None, TABLE) and \
+                set(r.objects) == {TABLE} and r.subject not in fixed:
+            held = [n for n in structure(r.subject) if n in fixed]
+            if held:
+                u = min(held, key=lambda n: math.dist(fixed[n][:2], r.at[:2]))
+                rewrite[r] = replace(r, at=tuple(a - b for a, b in zip(r.at, fixed[u],
+                                                                      strict=True)), wrt=u)
+    if not rewrite:
+        return plan
+    return replace(plan, operators={
+        name: replace(op, sc_plus=tuple(rewrite.get(r, r) for r in op.sc_plus))
+        for name, op in plan.operators.items()})
 
 
 def placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,

@@ -28,6 +28,7 @@ from lbw_engine.do.matching import (
     taught_shapes,
 )
 from lbw_engine.do.monitor import pair_by_shape
+from lbw_engine.do.placement import anchor_table_places
 from lbw_engine.do.plan import Plan
 from lbw_engine.do.tracing import Trace, trace
 from lbw_engine.do.verification import TOPPLE_RAD, ObjectState, verify
@@ -104,6 +105,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
         matching = match_initial_state(taught, plan_objects(plan), measured,
                                        anchors(plan, rules.support_relations))
         report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
+        plan = anchor_table_places(plan, rules.support_relations,
+                                   anchors(plan, rules.support_relations))
         model = _model(taught, sc.shapes, matching, measured, ruleset)
         fresh = copy.deepcopy(model) if via == "bt" else None
         planned = trace(plan, rules, copy.deepcopy(model))  # one that cannot be traced fails
