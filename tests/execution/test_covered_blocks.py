@@ -1,0 +1,63 @@
+"""Blocks hidden from above by the block on them, in either workspace (issue #12 class 5).
+
+One row per class that helper round 11 found (its scenarios 157, 36, 152 and 44):
+- several blocks side by side under a wider one: the top camera sees the cover's
+  face only, the side camera the blocks' front faces with table between them
+  (perception/vision/vfd/objects_legs.py);
+- a block between two others in a stack, wider than both by a ring too thin to
+  see from above (objects.py ``_hidden_stack``, ``above``);
+- an empty hand over a covered block reaches for the block on it
+  (envnodes/search.py ``grasped``);
+- a post set on the table beside one the plan never moves keeps its offset from
+  it, so the plate across both stands (do/placement.py ``anchor_table_places``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from lbw_engine.do import plan as planmod
+from lbw_engine.do.matching import anchors
+from lbw_engine.do.placement import anchor_table_places
+from lbw_engine.rules import load_rules
+from tests.execution.test_hand_written import _verified
+
+DATA = Path(__file__).parent / "data"
+SUPPORT = load_rules().commands.support_relations
+
+ROWS = [
+    pytest.param("plate-on-two-posts-in-the-execute-layout", id="plate-on-two-posts"),
+    pytest.param("cube-under-a-plate-on-two-cubes", id="cube-under-a-plate"),
+    pytest.param("bridge-taken-apart-and-built-wider", id="bridge-in-the-teach-layout"),
+    pytest.param("slab-between-two-cubes-taken-out", id="overhanging-middle-of-three"),
+]
+
+
+@pytest.mark.parametrize("name", ROWS)
+def test_covered_blocks_are_found_and_the_task_is_done(name):
+    _verified(name)
+
+
+def test_a_table_place_in_a_structure_with_an_unmoved_block_is_kept_beside_it():
+    plan = planmod.load(DATA / "bridge-taken-apart-and-built-wider.plan.json")
+    fixed = anchors(plan, SUPPORT)
+    assert set(fixed) == {"p1"}
+    out = anchor_table_places(plan, SUPPORT, fixed)
+    final = {r.subject: r for r in out.operators[out.root].sc_plus if r.type in SUPPORT}
+    assert final["p2"].wrt == "p1"
+    taught = {r.subject: r for r in plan.operators[plan.root].sc_plus if r.type in SUPPORT}
+    assert [a + b for a, b in zip(final["p2"].at, fixed["p1"], strict=True)] == \
+        pytest.approx(list(taught["p2"].at))
+    # every operator that makes that place gets the same relation
+    for op in out.operators.values():
+        for r in op.sc_plus:
+            if r.subject == "p2" and r.type in SUPPORT and set(r.objects) == {"table"} and \
+                    r.at[0] > 45:
+                assert r.wrt == "p1"
+
+
+def test_a_plan_whose_structures_are_all_moved_keeps_world_places():
+    plan = planmod.load(Path(__file__).parents[1] / "data" / "build-table.plan.json")
+    assert anchor_table_places(plan, SUPPORT, anchors(plan, SUPPORT)) is plan
