@@ -297,3 +297,22 @@ def test_a_covered_disc_shows_the_rest_of_its_top(strips, shown):
     check = Silhouettes(cams, images, [DISC, BRICK])
     check.faces = [_face_px(cams["top"], *s, 70.0) for s in strips]
     assert part_seen(disc, DISC, [(brick, BRICK)], check) is shown
+
+
+TINY, BASE = (10.0, 10.0, 10.0), (40.0, 40.0, 40.0)
+
+
+@pytest.mark.parametrize("there", [True, False], ids=["cube-on-the-block", "cube-gone"])
+def test_a_small_cube_expected_on_top_must_show_its_face(there):
+    """Helper round 12, 71: a 10 mm cube expected on a 40 mm block had been removed. The
+    finder's reading of the block is centred where the cube's would be, and the cube, 3 px
+    across, fits the silhouettes' tolerance: the cameras passed what the simulator failed.
+    Nothing hides its top from the top camera, so the top view must show it."""
+    expected = {"b": ("blk", (0.0, 200.0, 20.0), BASE), "t": ("tiny", (0.0, 200.0, 45.0), TINY)}
+    world = expected if there else {"b": expected["b"]}
+    cams, images = _views(world)
+    found = ObjectFinder(cams, VisionResources()).find(
+        Frame(0, 0.0, images["top"], images["side"]), {"blk": BASE, "tiny": TINY})
+    _, named, _ = explain(cams, images, found, expected)
+    assert ("t" in named) == there
+    assert "b" in named

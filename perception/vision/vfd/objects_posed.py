@@ -31,7 +31,12 @@ from lbw_engine.model.geometry import footprints_meet
 from perception.vision.camera import Camera
 from perception.vision.vfd.base import DARK_MAX
 from perception.vision.vfd.objects import FoundObject, ObjectFinder
-from perception.vision.vfd.objects_faces import measure_tops, tops_unseen, uncovered_or_part_seen
+from perception.vision.vfd.objects_faces import (
+    measure_tops,
+    top_missing,
+    tops_unseen,
+    uncovered_or_part_seen,
+)
 from perception.vision.vfd.objects_pieces import box_rect, pieces_of, reading_of, with_columns_under
 from perception.vision.vfd.resources import VisionResources
 
@@ -146,7 +151,7 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
 
     for _ in range(PASSES):  # a block's pose may only fit once its neighbours' do
         before = len(named)
-        _add_hidden(boxes, named, added, expected, cost, top_shown)
+        _add_hidden(boxes, named, added, expected, cost, top_shown, check)
         _replace(boxes, named, expected, cost, top_shown)
         if len(named) == before:
             break
@@ -292,16 +297,17 @@ def _meet(a: Sequence[float], b: Sequence[float]) -> bool:
 
 def _add_hidden(boxes: list, named: dict[str, int], added: list[str],
                 expected: Mapping[str, Expected], cost: Callable[[], int],
-                top_shown: Callable[[str], bool]) -> None:
+                top_shown: Callable[[str], bool], check: Silhouettes) -> None:
     """Expected blocks the finder saw nothing of, where adding them leaves the views as
     well explained (hidden from both cameras) or better, and the top view shows what is
-    expected of their top faces beside the blocks over them (``top_shown``)."""
+    expected of their top faces beside the blocks over them (``top_shown``), or where
+    nothing hides them from it (``top_missing``)."""
     base = cost()
     for name, (shape, center, size) in sorted(expected.items()):
         free = [i for i, b in enumerate(boxes) if b is not None and i not in named.values()]
         if name in named or pieces_of(boxes, free, center, size, any_size=True):
             continue  # the finder saw something there that is not this block
-        if not top_shown(name):
+        if not top_shown(name) or top_missing(name, expected, boxes, check):
             continue
         boxes.append(FoundObject(shape, tuple(map(float, center)), tuple(map(float, size)), 0.0))
         trial = cost()
