@@ -50,6 +50,17 @@ def test_a_block_set_down_flush_without_a_slide_is_no_align():
     assert fine == ["NO-OP"] * 3
 
 
+def test_a_block_put_down_behind_a_tall_pillar_is_no_align():
+    """Helper round 12, 14: a 150 mm pillar in front hid a finger of the hand placing a
+    grid's cube behind it; the tracked hand moved 8 mm while the palm seen from above
+    stayed put, and the place read as an ALIGN (CoplanarNode.compare, TOP_SHARE)."""
+    sc, _, actions = watch_file(DATA / "grid-behind-a-150mm-pillar.yaml")
+    assert_sequence(sc, actions)
+    fine = [f["operation"] for op in actions["operations"] if op["special"]
+            for f in op["fine"]]
+    assert "ALIGN" not in fine
+
+
 def test_a_block_set_on_one_of_its_own_size_is_no_align():
     """Side faces line up with a neighbour's only at one level: a 10 mm cube set exactly
     on another has its bottom 10 mm above the other's, and was read as ALIGNed with it

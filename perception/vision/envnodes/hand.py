@@ -59,6 +59,9 @@ class Sample:
     spot: np.ndarray
     speed: float
     steady: bool = True
+    # the palm in the top view, at the hand's height (x, y): the top camera looks down on
+    # the hand, so no block in front hides it (a slide's length, coplanar.py)
+    top: tuple[float, float] | None = None
 
 
 class Sight:
@@ -199,7 +202,10 @@ class HandState:
         self.spot = median3(self.checked)
         self.path.add(t, self.hand)
         self.velocity = self.path.velocity
-        self.history.append(Sample(t, self.hand, self.spot, self.speed(), self.steady))
+        palm = self.tracker.palm["top"].feature
+        top = None if palm is None else \
+            self.sight.cameras["top"].plane_point(palm, 2, float(self.hand[2]))[:2]
+        self.history.append(Sample(t, self.hand, self.spot, self.speed(), self.steady, top))
         self._times.append(t)
         if t - self._times[0] > 2 * HISTORY_S:  # trim in chunks: O(1) per frame on average
             cut = bisect.bisect_left(self._times, t - HISTORY_S)
