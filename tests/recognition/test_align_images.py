@@ -85,8 +85,12 @@ def test_a_block_set_on_one_of_its_own_size_is_no_align():
     ("align-behind-a-block.yaml", [["ALIGN"]]),
     # a palm-to-fingertip drop learned too long, never corrected (HandTracker._edge_below)
     ("align-on-two-faces.yaml", [["NO-OP"], ["ALIGN"], ["ALIGN"]]),
+    # a 30 x 60 block slid 7 mm: its boxes measured 4.6 then 2.2 mm from flush (_closed)
+    ("align-a-long-block-west-7mm.yaml", [["NO-OP"], ["ALIGN"]]),
+    # set down flush on the named face, slid 6 mm into contact: coplanar at both ends
+    ("align-flush-then-slid-into-contact.yaml", [["NO-OP"], ["ALIGN"]]),
 ], ids=["8mm-slide", "measured-into-its-neighbour", "jaws-across-the-camera",
-        "behind-a-block", "two-faces-of-one-block"])
+        "behind-a-block", "two-faces-of-one-block", "long-block-7mm", "flush-then-into-contact"])
 def test_a_slide_into_line_is_an_align(name, aligns):
     sc, _, actions = watch_file(DATA / name)
     assert_sequence(sc, actions)
