@@ -22,6 +22,9 @@ from lbw_engine.model.geometry import TABLE, Vec, overlap, top
 from lbw_engine.rules.commands import CommandRules
 
 NOT_OBJECTS = frozenset({TABLE, "hand"})
+LEVEL_MM = 2.0  # a block whose top is this near the supports' is level with them
+REACH_MM = 5.0  # a placed block is moved at most this far off such a block
+CLEAR_MM = 2.0  # ... to this far beside it (the robot sets blocks down within a mm or so)
 
 
 def taught_positions(si: Sequence[Relation], support: Collection[str]) -> dict[str, Vec]:
@@ -61,7 +64,10 @@ def anchor_table_places(plan: Plan, support: Collection[str], fixed: Mapping[str
     plate fell between them). Such a place becomes relative to the nearest of those
     objects (``:wrt`` it), as a place on a block is."""
     root = plan.operators[plan.root]
-    final = [r for r in (*root.sc_plus, *root.si) if r.type in support]
+    # the final state: the root's SC+ for what moves, its SI for what stays (its SI may
+    # also hold a moved object's passing relation: a cube set on a base and taken off)
+    final = [r for r in root.sc_plus if r.type in support] + \
+        [r for r in root.si if r.type in support and r.subject in fixed]
     links: dict[str, set[str]] = {}
     for r in final:
         for o in r.objects:
@@ -133,10 +139,47 @@ def placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
     size = model.bodies[focus].size
     rest = model.settled(supports)  # supports rest on theirs, not at their release height
     base = max((top(rest[s], model.bodies[s].size) for s in supports), default=0.0)
+    if supports:
+        xy = _off_neighbours(xy, focus, supports, base, model)
     goal = (xy[0], xy[1], base + size[2] / 2 + rules.release_clearance)
     if check:
         _check_free(goal, focus, model)
     return goal, moved
+
+
+def _off_neighbours(xy: tuple[float, float], focus: str, supports: list[str], base: float,
+                    model: EnvModel) -> tuple[float, float]:
+    """``xy`` moved off the tops of blocks beside the supports, level with them, that the
+    placed block would reach onto or come within CLEAR_MM of: it rests on the taught
+    supports only. A learned offset is a measurement, a millimetre or two off; a cube
+    taught on the second of two touching cubes, learned 1.5 mm towards the first, rested
+    on both (helper round 13, 36, v36c: the cameras passed it, the simulator did not).
+    Along each axis the block keeps CLEAR_MM from such neighbours on both sides where
+    there is room, else the same room on both; a move of more than REACH_MM, or one
+    that takes its centre off its supports, is not made."""
+    size = model.bodies[focus].size
+    moving = {focus, *model.supported_by(focus)}
+    level = model.settled([n for n in model.bodies if n not in moving])
+    under = [model.bodies[s] for s in supports]
+    out = list(xy)
+    for k in (0, 1):
+        low, high = -math.inf, math.inf  # the neighbours' facing edges on either side
+        for name, c in level.items():
+            b = model.bodies[name]
+            if name in supports or abs(top(c, b.size) - base) > LEVEL_MM or \
+                    abs(xy[1 - k] - c[1 - k]) >= (size[1 - k] + b.size[1 - k]) / 2:
+                continue  # not level, or not beside it along this axis
+            if c[k] < xy[k] and c[k] + b.size[k] / 2 > xy[k] - size[k] / 2 - CLEAR_MM:
+                low = max(low, c[k] + b.size[k] / 2)
+            elif c[k] >= xy[k] and c[k] - b.size[k] / 2 < xy[k] + size[k] / 2 + CLEAR_MM:
+                high = min(high, c[k] - b.size[k] / 2)
+        a, z = low + size[k] / 2 + CLEAR_MM, high - size[k] / 2 - CLEAR_MM
+        want = min(max(xy[k], a), z) if a <= z else (low + high) / 2
+        lo = min(u.position[k] - u.size[k] / 2 for u in under)
+        hi = max(u.position[k] + u.size[k] / 2 for u in under)
+        if math.isfinite(want) and abs(want - xy[k]) <= REACH_MM and lo <= want <= hi:
+            out[k] = want
+    return (out[0], out[1])
 
 
 def _centre(points: Iterable[Vec]) -> tuple[float, float]:

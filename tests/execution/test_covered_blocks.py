@@ -61,3 +61,10 @@ def test_a_table_place_in_a_structure_with_an_unmoved_block_is_kept_beside_it():
 def test_a_plan_whose_structures_are_all_moved_keeps_world_places():
     plan = planmod.load(Path(__file__).parents[1] / "data" / "build-table.plan.json")
     assert anchor_table_places(plan, SUPPORT, anchors(plan, SUPPORT)) is plan
+
+
+def test_a_relation_the_final_state_does_not_hold_anchors_nothing():
+    """The root's SI also holds a moved block's passing relation (a cube set on a base that
+    stays, then taken to the table): the cube's table place is not the base's structure."""
+    plan = planmod.load(DATA / "cube-set-on-a-base-and-taken-off.plan.json")
+    assert anchor_table_places(plan, SUPPORT, anchors(plan, SUPPORT)) is plan
