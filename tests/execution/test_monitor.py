@@ -65,6 +65,21 @@ def test_fault_is_detected_repaired_and_verified(tmp_path, capsys, name, faults,
     assert report["success"] is True and report["failure"] is None
 
 
+def test_an_aligned_block_pushed_off_its_partners_face_is_redone():
+    """After each ACHIEVE the faces aligned so far are checked as the final verdict checks
+    them: a 4 mm push is within the 5 mm position tolerance but not the 2 mm coplanar one
+    (pipeline/monitor.py); it was found only at the end, with no repair left to make."""
+    from lbw_engine.pipeline.run import run
+    from perception.world.scenario import load
+
+    result = run(load(Path(__file__).parent / "data" / "aligned-block-pushed-4mm.yaml"))
+    report = result.execution.report
+    assert [d["kind"] for d in report["monitor"]["detections"]] == ["aligned"]
+    assert [r["operator"] for r in report["monitor"]["repairs"]] == ["achieve02"]
+    assert report["verification"] == {"cameras": True, "ground_truth": True}
+    assert result.failure is None, result.failure
+
+
 def test_a_drop_beside_a_standing_block_is_repaired(tmp_path, capsys):
     """A drop is a slip (perception/world/faults.py SLIP_MM): the jaws flung fully open
     came down around the place spot 150 mm wide and toppled the leg standing beside it."""
