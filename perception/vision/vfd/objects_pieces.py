@@ -7,7 +7,7 @@ the monitor poses the block, those readings must go with it.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
@@ -82,3 +82,29 @@ def _same_pixels(cam: Camera, found: FoundObject, center: Sequence[float],
         max(0.0, min(a[3], b[3]) - max(a[1], b[1]))
     smaller = min((a[2] - a[0]) * (a[3] - a[1]), (b[2] - b[0]) * (b[3] - b[1]))
     return smaller > 0 and common > 0.5 * smaller
+
+
+def above(b: FoundObject, trial: Sequence[FoundObject], tol: float) -> bool:
+    """Whether a reading lies wholly above the blocks of ``trial`` whose footprints it meets
+    (its bottom no more than ``tol`` under their tops)."""
+    low = b.position[2] - b.size[2] / 2.0
+    return all(low >= t.position[2] + t.size[2] / 2.0 - tol for t in trial
+               if footprints_meet(b.position, b.size, t.position, t.size, tol=0.0))
+
+
+def images_of(cameras: Mapping[str, Camera], found: FoundObject
+              ) -> dict[str, tuple[float, float, float, float]]:
+    """A box's image rectangle in each camera."""
+    return {name: box_rect(cam, found.position, found.size) for name, cam in cameras.items()}
+
+
+def overlaps_images(cameras: Mapping[str, Camera], found: FoundObject,
+                    rects: Sequence[Mapping[str, tuple[float, float, float, float]]]) -> bool:
+    """Whether a reading's box meets one of the blocks (their ``images_of``) in both views."""
+    mine = images_of(cameras, found)
+    return any(all(meet(mine[name], r[name]) for name in mine) for r in rects)
+
+
+def meet(a: Sequence[float], b: Sequence[float]) -> bool:
+    """Whether two image rectangles (u0, v0, u1, v1) overlap."""
+    return min(a[2], b[2]) > max(a[0], b[0]) and min(a[3], b[3]) > max(a[1], b[1])
