@@ -248,3 +248,20 @@ def test_gaps_draws_grids_tight_on_both_axes():
         holds = [i for i, s in enumerate(sc.demonstration) if s.kind != "place"]
         tight += any(hold_axis(sc, i) is None for i in holds)
     assert tight >= 4
+
+
+@pytest.mark.parametrize("seed", [1034, 1213, 1287])
+def test_rearrange_draws_a_deck_that_starts_across_two_piers(seed):
+    """Helper round 11 (152, 157): a block across two others in an initial layout. The
+    rearrange family takes such a deck off its piers and stands a pier on it; the deck
+    starts on both piers in both layouts (assemble._layout: one footprint, the piers
+    under its ends), and everything stands as the loader replays it."""
+    sc = load_text(generate(seed, family="rearrange").text)
+    decks = [n for n, o in sc.teach.objects.items() if o.shape == "deck"]
+    assert decks
+    for w in (sc.teach, sc.execute):
+        deck = next(o for o in w.objects.values() if o.shape == "deck")
+        assert len(deck.on) == 2
+        ends = sorted(w.objects[p].center[0] for p in deck.on)
+        assert ends[1] - ends[0] >= 25 + 10  # the table shows between the piers
+    assert sc.demonstration[0].obj in decks or sc.demonstration[1].obj in decks

@@ -36,6 +36,7 @@ FIT = 20.0  # mm a stack's top may overhang its base's footprint in total, per a
 BLOCKED_GOAL = 0.15  # share of drafts with an execution object lying on a goal spot
 TOUCHING = 0.15  # share of drafts with two execution objects in side contact
 GRIP_MM = 120.0  # the widest side a touching pair's blocks may be gripped across
+INSET_MM = 5.0  # a deck's ends reach this far past the piers it starts on
 
 
 @dataclass
@@ -103,7 +104,8 @@ def draw(rng: np.random.Generator, family: str) -> Draft:
 def _alone(layout: dict) -> list[str]:
     """Objects lying on the table with nothing on them, sorted by name."""
     return sorted(n for n, w in layout.items() if len(w) == 2
-                  and not any(v == (n,) for v in layout.values()))
+                  and not any(len(v) == 1 and n in (v[0] if isinstance(v[0], tuple) else v)
+                              for v in layout.values()))
 
 
 def _footprints(layout: dict, objects: dict, shapes: dict, but: set[str]) -> list[tuple]:
@@ -199,11 +201,21 @@ def _add_stacks(rng: np.random.Generator, stacks: dict, picked: list[str], objec
 
 def _layout(rng: np.random.Generator, objects: dict, shapes: dict, stacks: dict,
             taken: list) -> dict[str, tuple]:
-    """Initial positions: (x, y) on the table, or (base,) for a stack's top."""
+    """Initial positions: (x, y) on the table, or (base,) for a stack's top (base a name,
+    or two for a top across two blocks: they stand under its ends, INSET_MM in)."""
     out: dict[str, tuple] = {}
     busy = list(taken)
+    for top, base in stacks.items():
+        if isinstance(base, tuple):  # a deck across two piers: one footprint
+            dx, dy = shapes[objects[top]][:2]
+            ends = [shapes[objects[b]] for b in base]
+            size = [dx, max(dy, *(e[1] for e in ends))]
+            x, y, fp = free_spot(rng, size, busy)
+            busy.append(fp)
+            for side, b, e in zip((-1, 1), base, ends, strict=True):
+                out[b] = (x + side * (dx / 2 - e[0] / 2 - INSET_MM), y)
     for name in objects:
-        if name in stacks:
+        if name in stacks or name in out:
             continue
         chain, n = [name], name
         while n in stacks.values():  # everything standing on it, for its footprint
@@ -222,7 +234,8 @@ def _steps(rng: np.random.Generator, order: list[dict], teach: dict) -> tuple[li
     """pick/place steps, with up to two touches: of objects lying alone on the table, or
     of a place's single support by the block about to be put on it."""
     stacked = {n for n, w in teach.items() if len(w) == 1} | \
-        {w[0] for w in teach.values() if len(w) == 1}
+        {b for w in teach.values() if len(w) == 1
+         for b in (w[0] if isinstance(w[0], tuple) else (w[0],))}
     supports = {s for a in order for s in ([a["on"]] if isinstance(a["on"], str) else a["on"])}
     steps, touches, moved = [], 0, set()
     for a in order:
@@ -251,7 +264,8 @@ def _objects(layout: dict, objects: dict, prefix: str) -> list[str]:
     """The lines of one workspace's objects."""
     lines = []
     for n, w in layout.items():
-        where = f"on: {prefix}{w[0]}" if len(w) == 1 else f"at: [{_num(w[0])}, {_num(w[1])}]"
+        where = f"on: {_names(list(w[0]) if isinstance(w[0], tuple) else w[0], prefix)}" \
+            if len(w) == 1 else f"at: [{_num(w[0])}, {_num(w[1])}]"
         lines.append(f"    {prefix}{n}: {{shape: {objects[n]}, {where}}}")
     return lines
 

@@ -16,7 +16,8 @@ half of them so their rows run along x. The families, and what each exercises:
 | three-supports | a plate on three bricks (a triangle or a line)                          |
 | stairs         | a stack whose blocks are set off by 6-12 mm with ``at``                 |
 | stacked-start  | classic structures whose parts start stacked, in teach and in execute  |
-| rearrange      | the top of a stack taken off and put elsewhere; a loaded slat moved     |
+| rearrange      | the top of a stack taken off and put elsewhere; a loaded slat moved;    |
+|                | a deck taken off two piers and one pier stood on it                     |
 
 Sizes are integers drawn from the seed; every builder keeps structures under
 MAX_HEIGHT (the robot's carrying height, rules/commands.yaml) and centres
@@ -26,6 +27,7 @@ simulates it).
 
 from __future__ import annotations
 
+import zlib
 from collections.abc import Callable
 
 import numpy as np
@@ -243,6 +245,11 @@ def rearrange(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
     the plank's (they coincide), and the search names the cube."""
     p = Piece("rearrange")
     draw = rng.random()
+    # half the plank draws take a bridge apart instead, drawn from a generator of their
+    # own: the other drafts stay as they were
+    own = np.random.default_rng(zlib.crc32(f"{tag}{draw}".encode()))
+    if draw < 1 / 3 and own.random() < 0.5:
+        return _unbridge(p, own, tag)
     if draw < 1 / 3:
         plank, rider = f"{tag}-slat", f"{tag}-knob"
         p.add(plank, "slat", (_ri(rng, 100, 120), 30, 15))
@@ -263,6 +270,21 @@ def rearrange(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
     p.put(stack[-1], "table", (0, 0))
     if len(stack) == 3 and rng.random() < 0.5:
         p.put(stack[1], stack[-1])  # the middle one ends on the former top: the order reversed
+    return p
+
+
+def _unbridge(p: Piece, rng: np.random.Generator, tag: str) -> Piece:
+    """A deck that starts across two piers (in both layouts) is set down on the table, and
+    one pier is stood on it: the piers are hidden under the deck from above, and the hand
+    that takes the deck by its end is over a pier (helper round 11, 152 and 157)."""
+    p.kind = "unbridge"
+    deck, pier = f"{tag}-deck", f"{tag}-pier"
+    p.add(deck, "deck", (_ri(rng, 140, 160), 40, 10))
+    for k in (1, 2):
+        p.add(f"{pier}{k}", "pier", (25, 25, 70))
+    p.starts_on[deck] = (f"{pier}1", f"{pier}2")
+    p.put(deck, "table", (0, 0))
+    p.put(f"{pier}1", deck)
     return p
 
 

@@ -54,7 +54,8 @@ class Piece:
     objects: dict[str, str] = field(default_factory=dict)  # object -> shape
     achieves: list[dict] = field(default_factory=list)  # {"obj", "on", "at"?, "align"?}
     where: dict[str, tuple[float, float]] = field(default_factory=dict)  # built x, y
-    starts_on: dict[str, str] = field(default_factory=dict)  # initial stacks: top -> base
+    # initial stacks: top -> base, or -> (base, base) for a top across two side by side
+    starts_on: dict[str, str | tuple[str, str]] = field(default_factory=dict)
 
     def size(self, name: str) -> Size:
         """Box size of object ``name``."""
