@@ -22,7 +22,7 @@ free spot where it can be let go one way and taken again the other.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 from lbw_engine.do import grasp, jaws
@@ -93,16 +93,17 @@ def _enclosing(plan: Plan, name: str) -> list[str]:
     return out
 
 
-def plan_set_aside(plan: Plan, name: str, rules: CommandRules,
-                   model: EnvModel) -> SetAside | None:
-    """Where and how to put ``name`` down on the table, or None if nowhere is free.
+def plan_set_aside(plan: Plan, name: str, rules: CommandRules, model: EnvModel,
+                   keep_clear: Sequence[tuple[Vec, Vec]] = ()) -> SetAside | None:
+    """Where and how to put ``name`` down on the table, or None if nowhere is free;
+    ``keep_clear``: more boxes (centre, size) it must not meet there.
     TaskFailed: no grip takes it."""
     body = model.bodies[name]
     if not jaws.fitting_axes(body.size, rules):
         raise TaskFailed(jaws.too_wide(name, body.size, rules) + ": it cannot be set aside")
     axis, off = grasp.choose(name, body.position, rules, model, strict=False)
     for spot, avoid in _candidates(plan, name, rules, model):
-        if _clear(name, spot, axis, off, rules, model, avoid):
+        if _clear(name, spot, axis, off, rules, model, [*avoid, *keep_clear]):
             return SetAside(name, body.position, spot, axis, off)
     return None
 

@@ -9,8 +9,9 @@ must leave the jaws clear at the pick; among those, the first whose place can
 be made straight down or with a held slide wins, else the first whose place
 needs the push (fine.py). When some ways serve the pick and others the place,
 but none both, ``NoCommonGrip`` says so: the object is put down on the way and
-taken again the other way (a regrasp, clearing.py). Else the grip is refused,
-naming what is in the way. Without a place ahead (a touch), the pick decides.
+taken again the other way (a regrasp, clearing.py). Else the grip is refused
+(``Blocked``), naming what is in the way: the caller may set that aside first
+(setaside.free_grasp). Without a place ahead (a touch), the pick decides.
 """
 
 from __future__ import annotations
@@ -27,6 +28,15 @@ from lbw_engine.rules.commands import CommandRules
 # (axis, offset) -> how the coming place would be made, or (None, why); None: no place ahead
 PlaceAhead = Callable[[int, float], tuple[PlacePlan | None, str] | None]
 Grip = tuple[int, float]  # jaw axis (0: x, 1: y), grip offset across the jaws (mm)
+
+
+class Blocked(TaskFailed):
+    """No way of gripping the object leaves the jaws clear: ``hits``, per jaw axis, the
+    first object in the way."""
+
+    def __init__(self, message: str, hits: dict[int, str]) -> None:
+        super().__init__(message)
+        self.hits = hits
 
 
 class NoCommonGrip(TaskFailed):
@@ -86,8 +96,8 @@ def choose(focus: str, centre: Vec, rules: CommandRules, model: EnvModel,
     else:  # each way has its own obstacle: name both
         where = ", and ".join(f"'{n}' at {_mm(model.bodies[n].position)} closing along "
                               f"{jaws.AXIS_NAMES[a]}" for a, n in pick_hits.items())
-    raise TaskFailed(f"the gripper cannot hold '{focus}' at {_mm(centre)}: a jaw would hit "
-                     f"{where}")
+    raise Blocked(f"the gripper cannot hold '{focus}' at {_mm(centre)}: a jaw would hit "
+                  f"{where}", pick_hits)
 
 
 def _mm(v: Vec) -> str:

@@ -1,5 +1,6 @@
 """Set-asides as commands (the spots are clearing.py's): riders of a block the plan picks,
-a block taken again the other way, and what lies on a spot the plan is about to fill.
+a block taken again the other way, what lies on a spot the plan is about to fill, and a
+block that keeps the jaws off one the plan picks.
 
 Each returns (why, the commands, which block, where it went), which tracing.py puts in
 front of the operation's own commands (``TracedOp.aside``).
@@ -19,6 +20,7 @@ from lbw_engine.model.geometry import Vec, footprints_meet, top
 from lbw_engine.rules.commands import CommandRules
 
 Aside = tuple[str, list[Command], str, Vec]
+FINGER_ROOM_MM = 20.0  # beside a finger's width, what a block set aside leaves a grip
 
 
 def riders(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
@@ -46,6 +48,35 @@ def regrasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
     return _aside(sa, rules, model, expander, where, lambda at: (
         f"no one way of closing the jaws serves both where '{focus}' is and where it goes: "
         f"put down at {at} to be taken again"))
+
+
+def free_grasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+               focus: str, exc: grasp.Blocked, where: str) -> list[Aside]:
+    """Set aside one block that keeps the jaws off ``focus`` (with what rests on it, top
+    first), so that a grip fits: two posts 5 mm apart along x and a lintel 12 mm south of
+    one, lying free (helper round 13, 50). Only a block the plan has not placed, and one
+    a grip can take to a free spot; [] if none."""
+    body = model.bodies[focus]  # the fingers' room around it, which the spot must leave
+    room = (body.position, tuple(v + 2 * (rules.finger[0] + FINGER_ROOM_MM) if k < 2 else v
+                                 for k, v in enumerate(body.size)))
+    for name in dict.fromkeys(exc.hits.values()):
+        stack = [name, *model.supported_by(name)]
+        if name == focus or any(n in model.placed or model.holding() == n for n in stack):
+            continue
+        out: list[Aside] = []
+        for n in clearing.top_first(stack, model):
+            try:  # its own jaws must be clear: a post hemmed in as well would be knocked
+                grasp.choose(n, model.bodies[n].position, rules, model)
+                sa = clearing.plan_set_aside(plan, n, rules, model, [room])
+            except TaskFailed:  # no grip takes it
+                sa = None
+            if sa is None:
+                break
+            out.append(_aside(sa, rules, model, expander, where, lambda at, n=n: (
+                f"'{n}' keeps the jaws off '{focus}': set aside at {at}")))
+        if out:
+            return out
+    return []
 
 
 def _aside(sa: clearing.SetAside, rules: CommandRules, model: EnvModel, expander: Expander,

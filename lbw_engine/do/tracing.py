@@ -125,8 +125,9 @@ class _Walker:
             if plot[1] in self.plan.operators:
                 self.operator(plot[1])
                 return False
+            # a trial walk (search off) frees no grip: an order that needs no set-aside wins
             self.ops.append(_leaf(self.plan, self.rules, self.model, self.expander, op,
-                                  plot[1]))
+                                  plot[1], free=self.search))
             return True
         branches = list(plot[1:])
         has_leaves = False
@@ -184,8 +185,9 @@ def trace_leaf(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
 
 
 def _leaf(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
-          op: Operator, leaf: str) -> TracedOp:
-    """Find one leaf's goal and grip and expand its steps.
+          op: Operator, leaf: str, free: bool = True) -> TracedOp:
+    """Find one leaf's goal and grip and expand its steps (``free``: a block that keeps the
+    jaws off the object may be set aside first).
 
     A leaf of a harmless operator (commands.yaml ``harmless``: a FAKE changes
     nothing) that cannot be done is left out rather than stopping the task.
@@ -198,7 +200,7 @@ def _leaf(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
                          f"(known: {', '.join(sorted(rules.operations))})",
                          file=plan.file, where=where)
     try:
-        return _expand(plan, rules, model, expander, op, leaf, operation, rule, where)
+        return _expand(plan, rules, model, expander, op, leaf, operation, rule, where, free)
     except TaskFailed as exc:
         if op.cls not in rules.harmless:
             raise
@@ -207,7 +209,7 @@ def _leaf(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
 
 def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
             op: Operator, leaf: str, operation: str, rule: OperationRule,
-            where: str) -> TracedOp:
+            where: str, free: bool = True) -> TracedOp:
     """The goal, the grip (jaws.py, grasp.py) and the place's fine motion (fine.py)."""
     focus = focus_object(op, rules, model)
     goal, moved = _first_goal(rule, op, focus, rules, model, plan.file, where)
@@ -239,6 +241,13 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
             except grasp.NoCommonGrip as exc:  # put it down on the way, take it the other way
                 aside.append(setaside.regrasp(plan, rules, model, expander, focus, exc, where))
                 goal = model.bodies[focus].position
+                axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
+            except grasp.Blocked as exc:  # a free block hems it in: set that aside first
+                freed = setaside.free_grasp(plan, rules, model, expander, focus, exc,
+                                            where) if free else []
+                if not freed:
+                    raise
+                aside += freed
                 axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
             model.grips[focus] = (axis, off)
         ctx.goal = jaws.tool_point(goal, size, axis, off, rules)

@@ -207,3 +207,12 @@ def test_a_block_put_on_one_of_a_touching_row_rests_on_that_one_only(name):
     towards a neighbour the row was built 0.4-1.9 mm from; it came to rest on both, which
     the simulator failed and the cameras passed (do/placement.py ``_off_neighbours``)."""
     _verified(name)
+
+
+def test_a_block_hemmed_in_on_both_axes_is_freed_by_setting_a_neighbour_aside():
+    """Helper round 13, 50: no grip of either post leaves the jaws clear (the other post
+    5 mm along x, the lintel 12 mm along y). The lintel can be gripped by its far end:
+    it is set aside first, clear of the post's finger room (do/setaside.free_grasp)."""
+    result = _verified("posts-hemmed-in-by-a-lintel")
+    aside = [note for op in result.execution.trace.ops for note, *_ in op.aside]
+    assert any("keeps the jaws off" in note for note in aside), aside
