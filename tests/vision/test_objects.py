@@ -473,3 +473,24 @@ def test_a_block_behind_a_taller_stack_has_its_own_height(low, behind):
         Film(noise=2.0, seed=5).shoot([b for _, b in truth]), shapes)
     assert len(found) == 3, found
     _each_near(found, truth, 5.0)
+
+
+COVERED = {"post": (30, 30, 50), "plate": (120, 40, 10), "cube": (30, 30, 30),
+           "block": (30, 30, 20), "slab": (50, 50, 15), "cube40": (40, 40, 30)}
+
+
+@pytest.mark.parametrize("name,truth", [
+    # a plate on two posts: from above only the plate (helper round 11, 157)
+    ("plate-on-two-posts", [("post", block(-180, 320, COVERED["post"])),
+                            ("post", block(-100, 320, COVERED["post"])),
+                            ("plate", block(-140, 320, COVERED["plate"], 50))]),
+    # a 50 mm slab between two 40 mm cubes (round 11, 44)
+    ("slab-between-two-cubes", [("cube40", block(0, 200, COVERED["cube40"])),
+                                ("slab", block(0, 200, COVERED["slab"], 30)),
+                                ("cube40", block(0, 200, COVERED["cube40"], 45))]),
+], ids=lambda v: v if isinstance(v, str) else "")
+def test_blocks_the_top_camera_cannot_tell_apart_are_found(name, truth):
+    found = ObjectFinder(CAMS, VisionResources()).find(
+        Film(seed=4).shoot([b for _, b in truth]), COVERED)
+    assert len(found) == len(truth), [(f.shape, f.position) for f in found]
+    _each_near(found, truth, 8.0)

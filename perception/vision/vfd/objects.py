@@ -144,8 +144,11 @@ class ObjectFinder(VFD):
         # seam and the pair fits the shapes better than the column; else the two faces
         # stay blocks of their own.
         split: dict[int, list[FoundObject]] = {}
+        top_img = self._read_full("top", frame.top)
         for k, (rim, parts) in rims.split_rims(boxes, framing, 0.6 * smallest,
                                                set(rings)).items():
+            if any(rims.table_between(top_img, boxes[p][2], boxes[k][2]) for p in parts):
+                continue  # blocks standing apart (helper round 13, v50e)
             low = min((boxes[p][0] for p in parts if p in measured), default=None)
             if low is not None and rims.room_between(boxes[k], low, thinnest, shapes):
                 # the lowest block of three or more, its top measured where a piece

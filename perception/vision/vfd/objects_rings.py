@@ -188,6 +188,28 @@ def _touches(a: Sequence[float], b: Sequence[float], gap: float = 2.0) -> bool:
     return a[0] <= b[2] + gap and b[0] <= a[2] + gap and a[1] <= b[3] + gap and b[1] <= a[3] + gap
 
 
+def table_between(top: np.ndarray, a: Sequence[float], b: Sequence[float]) -> bool:
+    """Whether the top view shows table between two faces' pixel rectangles (their edges
+    run through the creases): the pixels strictly between them, along their common
+    stretch, mostly dark. Two faces at one height either side of a taller one are a rim
+    it cuts in two only if they touch it; 20 mm blocks standing 6 mm in front of and
+    behind a 30 mm cube are 2 px apart from it, and one of those is table."""
+    for axis in (0, 1):
+        lo, hi = (a, b) if a[axis] < b[axis] else (b, a)
+        start, stop = int(np.floor(lo[axis + 2])) + 1, int(np.ceil(hi[axis])) - 1
+        if stop < start:
+            continue
+        across = 1 - axis
+        c0 = int(np.ceil(max(lo[across], hi[across]))) + 1
+        c1 = int(np.floor(min(lo[across + 2], hi[across + 2]))) - 1
+        if c1 < c0:
+            continue
+        strip = top[start:stop + 1, c0:c1 + 1] if axis == 1 else top[c0:c1 + 1, start:stop + 1]
+        if strip.size and float(np.mean(strip <= DARK_MAX)) >= 0.5:
+            return True
+    return False
+
+
 def area_of(rect: Sequence[float]) -> float:
     """Area of a rectangle (x0, y0, x1, y1)."""
     return (rect[2] - rect[0]) * (rect[3] - rect[1])
