@@ -79,6 +79,25 @@ def free_grasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
     return []
 
 
+def grip_freed(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+               focus: str, goal: Vec, ahead: grasp.PlaceAhead, exc: grasp.Blocked,
+               where: str, aside: list[Aside]) -> tuple[int, float]:
+    """A grip of ``focus`` after setting aside blocks in the jaws' way (``free_grasp``),
+    one at a time, appended to ``aside``: a cube with blocks 6 mm off all four sides
+    needs both of one axis moved (helper round 13, v50d). The last Blocked if no block
+    is left that can be moved."""
+    for _ in model.bodies:
+        freed = free_grasp(plan, rules, model, expander, focus, exc, where)
+        if not freed:
+            break
+        aside += freed
+        try:
+            return grasp.choose(focus, goal, rules, model, ahead)
+        except grasp.Blocked as again:
+            exc = again
+    raise exc
+
+
 def _aside(sa: clearing.SetAside, rules: CommandRules, model: EnvModel, expander: Expander,
            where: str, why: Callable[[str], str]) -> Aside:
     """Put a block on its spot (``put_down``) and say so: ``why`` of the spot, the

@@ -242,13 +242,11 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
                 aside.append(setaside.regrasp(plan, rules, model, expander, focus, exc, where))
                 goal = model.bodies[focus].position
                 axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
-            except grasp.Blocked as exc:  # a free block hems it in: set that aside first
-                freed = setaside.free_grasp(plan, rules, model, expander, focus, exc,
-                                            where) if free else []
-                if not freed:
+            except grasp.Blocked as exc:  # free blocks hem it in: set them aside first
+                if not free:
                     raise
-                aside += freed
-                axis, off = grasp.choose(focus, goal, rules, model, ahead, rule.check_jaws)
+                axis, off = setaside.grip_freed(plan, rules, model, expander, focus, goal,
+                                                ahead, exc, where, aside)
             model.grips[focus] = (axis, off)
         ctx.goal = jaws.tool_point(goal, size, axis, off, rules)
         ctx.width, ctx.wrist = size[axis] + rules.margin, 90.0 * axis

@@ -68,3 +68,36 @@ def test_a_relation_the_final_state_does_not_hold_anchors_nothing():
     stays, then taken to the table): the cube's table place is not the base's structure."""
     plan = planmod.load(DATA / "cube-set-on-a-base-and-taken-off.plan.json")
     assert anchor_table_places(plan, SUPPORT, anchors(plan, SUPPORT)) is plan
+
+
+def test_blocks_in_front_of_and_behind_a_taller_one_are_not_its_rim():
+    """Helper round 13, v50e: 20 mm blocks 6 mm in front of and behind a 30 mm cube look,
+    from above, like the rim of one long block the cube stands across; the cube was read
+    as a 10 mm slab under a phantom block and the two blocks were lost. The top view
+    shows table between them (objects_rings.table_between)."""
+    from lbw_engine.pipeline.execute import measure_initial_state
+    from perception.vision.camera import default_cameras
+    from perception.world.physics import World
+    from perception.world.render import Renderer
+    from perception.world.scenario import load
+
+    sc = load(DATA / "cube-between-blocks-6mm-in-front-and-behind.yaml")
+    world = World(sc.execute.objects.values())
+    world.settle(0.5)
+    frame = Renderer(default_cameras(), pixel_noise=sc.noise.pixel, seed=sc.seed).render(
+        world.scene())
+    found, _ = measure_initial_state(world, sc, frame)
+    assert sorted(f.shape for f in found) == ["block", "block", "cube"]
+    truth = world.positions()
+    for f in found:
+        assert min(abs(f.position[0] - c[0]) + abs(f.position[1] - c[1])
+                   for c in truth.values()) < 6.0
+
+
+def test_a_cube_boxed_in_on_all_four_sides_is_freed_and_taken():
+    """Helper round 13, v50d: blocks 6 mm off each side; both blocks of one axis are set
+    aside, one at a time, before the cube is gripped (setaside.grip_freed). The robot
+    watch names the look-alike blocks wrongly on the way, so it is not quiet."""
+    result = _verified("cube-boxed-in-by-four-blocks", quiet=False)
+    aside = [note for op in result.execution.trace.ops for note, *_ in op.aside]
+    assert sum("keeps the jaws off" in note for note in aside) == 2, aside
