@@ -193,6 +193,8 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
                                   "cube-10mm-6mm-beside-a-60mm-block.yaml",
                                   "cube-set-aside-beside-a-capped-post.yaml",
                                   "cube-10mm-25mm-in-front-of-an-80mm-post.yaml",
+                                  # its pick seen by the front face's shade (round 12, 27)
+                                  "cube-10mm-starting-on-a-60mm-block.yaml",
                                   "cube-10mm-6mm-in-front-of-a-60mm-block.yaml"],
                          ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside",
                               "withdraw-beside-a-block", "post-the-plan-leaves-alone",
