@@ -204,7 +204,8 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
                               "pushed-into-a-corner-last", "stepped-aside-from-a-tall-tower",
                               "small-pick-hidden-behind-a-block", "small-cube-behind-a-block",
                               "small-pick-beside-a-tall-block", "set-aside-under-no-overhang",
-                              "small-cube-before-a-post", "small-cube-before-a-block"])
+                              "small-cube-before-a-post", "small-cube-starting-on-a-block",
+                              "small-cube-before-a-block"])
 def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     """Fault-free runs of users' scenarios (helper round 4): the monitor must not see a
     difference and redo an ACHIEVE (search.py leaving; matching.py _covered). Helper
