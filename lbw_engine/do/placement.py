@@ -64,6 +64,16 @@ def anchor_table_places(plan: Plan, support: Collection[str], fixed: Mapping[str
     plate fell between them). Such a place becomes relative to the nearest of those
     objects (``:wrt`` it), as a place on a block is."""
     root = plan.operators[plan.root]
+    # a block riding on one the plan moves is carried, not fixed (a knob on a slat that is
+    # moved: the slat's place must not be kept beside where the knob was taught)
+    under = {r.subject: [o for o in r.objects if o not in NOT_OBJECTS]
+             for r in root.si if r.type in support}
+
+    def carried(name: str, seen: frozenset[str] = frozenset()) -> bool:
+        return any(o not in fixed or (o not in seen and carried(o, seen | {name}))
+                   for o in under.get(name, ()))
+
+    fixed = {n: at for n, at in fixed.items() if not carried(n)}
     # the final state: the root's SC+ for what moves, its SI for what stays (its SI may
     # also hold a moved object's passing relation: a cube set on a base and taken off)
     final = [r for r in root.sc_plus if r.type in support] + \
@@ -167,7 +177,7 @@ def _off_neighbours(xy: tuple[float, float], focus: str, supports: list[str], ba
         for name, c in level.items():
             b = model.bodies[name]
             if name in supports or abs(top(c, b.size) - base) > LEVEL_MM or \
-                    abs(xy[1 - k] - c[1 - k]) >= (size[1 - k] + b.size[1 - k]) / 2:
+                    abs(out[1 - k] - c[1 - k]) >= (size[1 - k] + b.size[1 - k]) / 2:
                 continue  # not level, or not beside it along this axis
             if c[k] < xy[k] and c[k] + b.size[k] / 2 > xy[k] - size[k] / 2 - CLEAR_MM:
                 low = max(low, c[k] + b.size[k] / 2)

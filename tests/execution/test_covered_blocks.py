@@ -101,3 +101,19 @@ def test_a_cube_boxed_in_on_all_four_sides_is_freed_and_taken():
     result = _verified("cube-boxed-in-by-four-blocks", quiet=False)
     aside = [note for op in result.execution.trace.ops for note, *_ in op.aside]
     assert sum("keeps the jaws off" in note for note in aside) == 2, aside
+
+
+def test_a_block_riding_on_a_moved_one_anchors_nothing():
+    """Review of stop 30: a knob riding on a slat that is moved is never given a support
+    relation of its own, so it looked fixed, and the slat's table place was made relative
+    to where the knob had been taught."""
+    from lbw_engine.do.plan import Operator, Plan, Relation
+
+    slat0 = Relation("on", "slat", ("table",), at=(-132.0, 246.0, 7.5), wrt="table")
+    slat1 = Relation("on", "slat", ("table",), at=(106.0, 227.0, 7.5), wrt="table")
+    knob = Relation("on", "knob", ("slat",), at=(0.0, 0.0, 19.5), wrt="slat")
+    move = Operator("achieve01", "ACHIEVE", {}, (slat1,), (slat0,), None, si=(knob,))
+    root = Operator("build01", "BUILD", {}, (slat1,), (slat0,), None, si=(slat0, knob))
+    plan = Plan("build01", {"build01": root, "achieve01": move})
+    fixed = {"knob": (-132.0, 246.0, 27.0)}
+    assert anchor_table_places(plan, SUPPORT, fixed) is plan
