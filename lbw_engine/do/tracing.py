@@ -76,8 +76,13 @@ class Trace:
     @property
     def alignments(self) -> list[Alignment]:
         """The coplanar faces the places make (the demonstration's ALIGNs), last per object."""
-        last = {op.alignment.subject: op.alignment for op in self.ops if op.alignment}
-        return list(last.values())
+        return alignments_of(self.ops)
+
+
+def alignments_of(ops: Sequence[TracedOp]) -> list[Alignment]:
+    """The coplanar faces some traced operations make, the last per placed object."""
+    last = {op.alignment.subject: op.alignment for op in ops if op.alignment}
+    return list(last.values())
 
 
 def trace(plan: Plan, rules: CommandRules, model: EnvModel,

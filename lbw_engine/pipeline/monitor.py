@@ -46,7 +46,7 @@ from lbw_engine.do.opcheck import (
     unplaced,
 )
 from lbw_engine.do.plan import Plan
-from lbw_engine.do.tracing import TracedOp, trace
+from lbw_engine.do.tracing import TracedOp, alignments_of, trace
 from lbw_engine.do.verification import ObjectState, Verdict, verify
 from lbw_engine.errors import TaskFailed
 from lbw_engine.model.env import EnvModel
@@ -208,10 +208,9 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         # the faces the done units aligned, as the final verdict checks them: a block
         # pushed 4 mm off its partner's face is within the position tolerance, not the
         # coplanar one, and was only found at the end (helper round 13, v78d)
-        made = {op.alignment.subject: op.alignment for u in done for op in u.ops
-                if op.alignment is not None}
+        made = alignments_of([op for u in done for op in u.ops])
         verdict = verify(unit.expected, unit.supports, seen.states, rules.support_relations,
-                         alignments=[a for a in made.values() if a.partner in unit.expected],
+                         alignments=[a for a in made if a.partner in unit.expected],
                          coplanar_tolerance=rules.fine.coplanar_tolerance)
         if verdict.success and not dropped:
             continue

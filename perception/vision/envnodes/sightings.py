@@ -98,14 +98,15 @@ class Sightings:
         behind (False). A 10 mm cube picked by the robot from a 60 mm block read as a
         NO-OP, and the place after it as nothing (helper round 12, 27)."""
         z0 = float(region.lo[2])
-        below = [b for b in others if b.hi[2] <= z0 + 1.0]
+        below = [b for b in others if b.hi[2] <= z0 + 1.0 and all(
+            b.lo[k] < region.hi[k] and region.lo[k] < b.hi[k] for k in (0, 1))]
         if z0 < 1.0 or not below:
             return None
         (window,) = self.detector.windows["side"]
         cam, img = self.sight.cameras["side"], shot.pixels["side"]
         face = Region3D(region.lo, (region.hi[0], region.lo[1], region.hi[2]))
         mask = region_mask(cam, face, window) & ~band(img, *HAND_BAND) & \
-            ~regions_mask(cam, [b for b in others if b.hi[2] > z0 + 1.0], window)
+            ~regions_mask(cam, [b for b in others if b not in below], window)
         if mask.sum() < FACE_PX:
             return None
         shade = float((mask & band(img, *FRONT_BAND)).sum()) / float(mask.sum())

@@ -103,7 +103,8 @@ class ObjectFinder(VFD):
                     cols.append((*self.footprint(rect, h), h))
             return check.wrong_pixels(cols)
 
-        check = SilhouetteCheck(self.cameras, {"top": self._read_full("top", frame.top) >
+        top_img = self._read_full("top", frame.top)
+        check = SilhouetteCheck(self.cameras, {"top": top_img >
                                                DARK_MAX, "side": solid})
         pairing = assign(cands, cost)
         boxes = []
@@ -144,7 +145,6 @@ class ObjectFinder(VFD):
         # seam and the pair fits the shapes better than the column; else the two faces
         # stay blocks of their own.
         split: dict[int, list[FoundObject]] = {}
-        top_img = self._read_full("top", frame.top)
         for k, (rim, parts) in rims.split_rims(boxes, framing, 0.6 * smallest,
                                                set(rings)).items():
             if any(rims.table_between(top_img, boxes[p][2], boxes[k][2]) for p in parts):

@@ -87,8 +87,8 @@ def top_missing(name: str, expected: Mapping[str, Expected], boxes: Sequence[Any
         if b is None or b.position[2] + b.size[2] / 2.0 <= top + 1.0:
             continue
         a0, b0, a1, b1 = box_rect(cam, b.position, b.size)
-        hidden = max(hidden, max(0.0, min(u1, a1) - max(u0, a0)) *
-                     max(0.0, min(v1, b1) - max(v0, b0)) / area)
+        hidden += max(0.0, min(u1, a1) - max(u0, a0)) * \
+            max(0.0, min(v1, b1) - max(v0, b0)) / area  # overlaps summed: at most more
     return hidden < 0.5
 
 

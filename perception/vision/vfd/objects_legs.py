@@ -100,6 +100,9 @@ def _runs(cam, side: np.ndarray, xs: tuple[float, float], front: float, z: float
         elif not f and start is not None:
             runs.append((ua + start, ua + i - 1, v))
             start = None
+    if len(runs) == 1 and not (dark[:max(0, runs[0][0] - ua - 1)].any() and
+                               dark[runs[0][1] - ua:].any()):
+        return None  # one block under a cover overhanging one side: a stack (_hidden_stack)
     return runs
 
 

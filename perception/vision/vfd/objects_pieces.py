@@ -89,9 +89,9 @@ def above(b: FoundObject, trial: Sequence[FoundObject], tol: float) -> bool:
     (its bottom no more than ``tol``, nor a quarter of the block's height, under their
     tops: a 12 mm cube's own reading, its height misread by 8 mm, is not on it)."""
     low = b.position[2] - b.size[2] / 2.0
-    return all(low >= t.position[2] + t.size[2] / 2.0 - min(tol, t.size[2] / 4.0)
-               for t in trial
-               if footprints_meet(b.position, b.size, t.position, t.size, tol=0.0))
+    met = [t for t in trial if footprints_meet(b.position, b.size, t.position, t.size, tol=0.0)]
+    return bool(met) and all(low >= t.position[2] + t.size[2] / 2.0 - min(tol, t.size[2] / 4.0)
+                             for t in met)
 
 
 def images_of(cameras: Mapping[str, Camera], found: FoundObject
