@@ -14,6 +14,8 @@ import math
 from collections.abc import Collection, Iterable, Mapping, Sequence
 from dataclasses import replace
 
+import networkx as nx
+
 from lbw_engine.do.balance import steadied
 from lbw_engine.do.plan import Plan, Relation
 from lbw_engine.errors import InputError, TaskFailed
@@ -78,27 +80,12 @@ def anchor_table_places(plan: Plan, support: Collection[str], fixed: Mapping[str
     # also hold a moved object's passing relation: a cube set on a base and taken off)
     final = [r for r in root.sc_plus if r.type in support] + \
         [r for r in root.si if r.type in support and r.subject in fixed]
-    links: dict[str, set[str]] = {}
-    for r in final:
-        for o in r.objects:
-            if o not in NOT_OBJECTS:
-                links.setdefault(r.subject, set()).add(o)
-                links.setdefault(o, set()).add(r.subject)
-
-    def structure(name: str) -> set[str]:
-        seen, todo = {name}, [name]
-        while todo:
-            for n in links.get(todo.pop(), ()):
-                if n not in seen:
-                    seen.add(n)
-                    todo.append(n)
-        return seen
-
+    joined = nx.Graph((r.subject, o) for r in final for o in r.objects if o not in NOT_OBJECTS)
     rewrite: dict[Relation, Relation] = {}
     for r in root.sc_plus:
         if r.type in support and r.at is not None and r.wrt in (None, TABLE) and \
-                set(r.objects) == {TABLE} and r.subject not in fixed:
-            held = [n for n in structure(r.subject) if n in fixed]
+                set(r.objects) == {TABLE} and r.subject in joined and r.subject not in fixed:
+            held = [n for n in nx.node_connected_component(joined, r.subject) if n in fixed]
             if held:
                 u = min(held, key=lambda n: math.dist(fixed[n][:2], r.at[:2]))
                 rewrite[r] = replace(r, at=tuple(a - b for a, b in zip(r.at, fixed[u],
@@ -169,7 +156,10 @@ def _off_neighbours(xy: tuple[float, float], focus: str, supports: list[str], ba
     that takes its centre off its supports, is not made."""
     size = model.bodies[focus].size
     moving = {focus, *model.supported_by(focus)}
-    level = model.settled([n for n in model.bodies if n not in moving])
+    # only blocks that could be beside it need their resting height (x, y are as traced)
+    reach = CLEAR_MM + REACH_MM
+    level = model.settled([n for n, b in model.bodies.items() if n not in moving and all(
+        abs(b.position[k] - xy[k]) < (size[k] + b.size[k]) / 2 + reach for k in (0, 1))])
     under = [model.bodies[s] for s in supports]
     out = list(xy)
     for k in (0, 1):

@@ -8,7 +8,7 @@ front of the operation's own commands (``TracedOp.aside``).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 from lbw_engine.do import clearing, grasp, jaws
 from lbw_engine.do.expander import Command, Context, Expander
@@ -63,17 +63,9 @@ def free_grasp(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
         stack = [name, *model.supported_by(name)]
         if name == focus or any(n in model.placed or model.holding() == n for n in stack):
             continue
-        out: list[Aside] = []
-        for n in clearing.top_first(stack, model):
-            try:  # its own jaws must be clear: a post hemmed in as well would be knocked
-                grasp.choose(n, model.bodies[n].position, rules, model)
-                sa = clearing.plan_set_aside(plan, n, rules, model, [room])
-            except TaskFailed:  # no grip takes it
-                sa = None
-            if sa is None:
-                break
-            out.append(_aside(sa, rules, model, expander, where, lambda at, n=n: (
-                f"'{n}' keeps the jaws off '{focus}': set aside at {at}")))
+        # its own jaws must be clear: a post hemmed in as well would be knocked
+        out, _ = _stack_aside(plan, rules, model, expander, stack, where, lambda at, n: (
+            f"'{n}' keeps the jaws off '{focus}': set aside at {at}"), [room], clear_jaws=True)
         if out:
             return out
     return []
@@ -135,16 +127,34 @@ def clear_goal(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expan
         stack = [name, *model.supported_by(name)]
         if any(n in model.placed or model.holding() == n for n in stack):
             continue
-        for n in clearing.top_first(stack, model):
-            try:
-                sa = clearing.plan_set_aside(plan, n, rules, model)
-            except TaskFailed:  # no grip takes it (wider than the jaws open)
-                sa = None
-            if sa is None:
-                return out
-            out.append(_aside(sa, rules, model, expander, where, lambda at, n=n: (
-                f"'{n}' lies where the plan puts '{focus}': set aside at {at}")))
+        done, whole = _stack_aside(plan, rules, model, expander, stack, where, lambda at, n: (
+            f"'{n}' lies where the plan puts '{focus}': set aside at {at}"))
+        out += done
+        if not whole:
+            return out
     return out
+
+
+def _stack_aside(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander,
+                 stack: list[str], where: str, why: Callable[[str, str], str],
+                 keep_clear: Sequence[tuple[Vec, Vec]] = (), clear_jaws: bool = False
+                 ) -> tuple[list[Aside], bool]:
+    """Set a stack's blocks aside, top first, each on a free spot (clearing.py, away from
+    ``keep_clear``; ``why(spot, block)`` says why), until one cannot be: no grip takes it,
+    or (``clear_jaws``) none leaves its own jaws clear, or no spot is free. The set-asides
+    made, and whether the whole stack was."""
+    out: list[Aside] = []
+    for n in clearing.top_first(stack, model):
+        try:
+            if clear_jaws:
+                grasp.choose(n, model.bodies[n].position, rules, model)
+            sa = clearing.plan_set_aside(plan, n, rules, model, keep_clear)
+        except TaskFailed:  # no grip takes it (wider than the jaws open, hemmed in)
+            sa = None
+        if sa is None:
+            return out, False
+        out.append(_aside(sa, rules, model, expander, where, lambda at, n=n: why(at, n)))
+    return out, True
 
 
 SUPPORT_TOP_MM = 5.0  # a block whose top is this near a place's bottom holds it up

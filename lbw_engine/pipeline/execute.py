@@ -102,11 +102,10 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
                                         "size": list(m.size)} for m in measured]},
     }
     try:
-        matching = match_initial_state(taught, plan_objects(plan), measured,
-                                       anchors(plan, rules.support_relations))
+        fixed = anchors(plan, rules.support_relations)
+        matching = match_initial_state(taught, plan_objects(plan), measured, fixed)
         report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
-        plan = anchor_table_places(plan, rules.support_relations,
-                                   anchors(plan, rules.support_relations))
+        plan = anchor_table_places(plan, rules.support_relations, fixed)
         model = _model(taught, sc.shapes, matching, measured, ruleset)
         fresh = copy.deepcopy(model) if via == "bt" else None
         planned = trace(plan, rules, copy.deepcopy(model))  # one that cannot be traced fails

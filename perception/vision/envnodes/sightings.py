@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from lbw_engine.model.env import EnvModel, EnvNode
+from lbw_engine.model.geometry import footprints_meet
 from lbw_engine.see.detectors import ActView
 from perception.vision.envnodes.hand import Sight, box
 from perception.vision.envnodes.placement import KNOWN_MM, boxes_but, known_boxes, targets_of
@@ -98,8 +99,8 @@ class Sightings:
         behind (False). A 10 mm cube picked by the robot from a 60 mm block read as a
         NO-OP, and the place after it as nothing (helper round 12, 27)."""
         z0 = float(region.lo[2])
-        below = [b for b in others if b.hi[2] <= z0 + 1.0 and all(
-            b.lo[k] < region.hi[k] and region.lo[k] < b.hi[k] for k in (0, 1))]
+        below = [b for b in others if b.hi[2] <= z0 + 1.0 and footprints_meet(
+            b.center, b.size, region.center, region.size, tol=0.0)]
         if z0 < 1.0 or not below:
             return None
         (window,) = self.detector.windows["side"]
