@@ -21,6 +21,7 @@ import pymunk
 
 from lbw_engine.model.geometry import TABLE_X, resting_on
 from lbw_engine.rules import Roles
+from perception.world.balance import block_boxes, tip_along_y
 from perception.world.hand import TIP, Gripper
 from perception.world.layout import Layout
 from perception.world.scene import Box
@@ -123,7 +124,7 @@ class World:
         body = self.shapes[name].body
         x, z = body.position
         clear = self._lands_clear(name, float(by[0]), float(by[1]))
-        self.y[name] += float(by[1]) if clear else self._free_run_y(name, float(by[1]))
+        self.y[name] += float(by[1]) if clear else self.free_run_y(name, float(by[1]))
         body.position = (x + float(by[0]), z)  # pymunk parts blocks overlapping in x-z
         self.space.reindex_shapes_for_body(body)
         self._wake()
@@ -137,7 +138,7 @@ class World:
                 return False
         return True
 
-    def _free_run_y(self, name: str, dy: float) -> float:
+    def free_run_y(self, name: str, dy: float) -> float:
         """How far (signed, at most ``dy``) ``name`` slides along y before it meets a block
         overlapping it in x-z."""
         bb, (lo, hi) = self.shapes[name].bb, self.extent(name, 1)
@@ -209,6 +210,7 @@ class World:
                     self.y[g.holding] = g.y + g._hold_dy
                     for name, dy in g.riders.items():
                         self.y[name] = g.y + dy
+        tip_along_y(self)  # pymunk has no y: loads hanging past an edge along y tip here
         self.time += dt
 
     def _move_y(self, g: Gripper, y: float) -> None:
@@ -370,11 +372,7 @@ class World:
         (a tilted block's box is its shape's x-z bounds and its y-extent).
         """
         held = {g.holding for g in self.grippers}
-        boxes = {}
-        for name in self.names:
-            bb = self.shapes[name].bb
-            boxes[name] = (((bb.left + bb.right) / 2, self.y[name], (bb.bottom + bb.top) / 2),
-                           (bb.right - bb.left, self.sizes[name][1], bb.top - bb.bottom))
+        boxes = block_boxes(self)
         return {name: () if name in held else tuple(resting_on(name, boxes))
                 for name in self.names}
 

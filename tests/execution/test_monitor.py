@@ -133,6 +133,30 @@ def test_a_removed_object_without_a_spare_ends_the_run_naming_it(tmp_path, capsy
     assert commands[-1].startswith(";;; stopped: 'top1'")
 
 
+EXEC_DATA = Path(__file__).resolve().parent / "data"
+
+
+@pytest.mark.parametrize("fault,code,seen", [
+    # the post slid out from under the beam's end: the beam tips off the other post,
+    # and both go back (before balance.py the beam hung level on one post)
+    ("{after: 3, kind: displace, object: q2, by: [70, 0]}", 0, "b"),
+    # the post taken away: the beam falls, and with no spare post the run stops naming it
+    # (before, the beam hung on one post, hiding the post's absence from both cameras,
+    # and the cameras' verdict was true and the simulator's false)
+    ("{after: 3, kind: remove, object: q2}", 1, "q"),
+], ids=["displace", "remove"])
+def test_a_beam_along_y_loses_a_post(tmp_path, capsys, fault, code, seen):
+    text = (EXEC_DATA / "arch-along-y.yaml").read_text().rstrip("\n")
+    path = tmp_path / "arch-along-y.yaml"
+    path.write_text(text + f"\n  faults:\n    - {fault}\n")
+    got, report, err = execute(tmp_path, "arch-along-y", path, capsys, plans=EXEC_DATA)
+    assert got == code, err
+    assert seen in {d["object"] for d in report["monitor"]["detections"]}
+    assert report["verification"]["cameras"] == report["verification"]["ground_truth"]
+    if code:
+        assert report["failure"].startswith("execution: 'q' (execute.objects 'q2')")
+
+
 def test_no_detection_without_faults(tmp_path, capsys):
     code, report, err = execute(tmp_path, "unstack", bundled_scenario("unstack"), capsys)
     assert code == 0, err
