@@ -5,6 +5,7 @@ import pytest
 
 from perception.vision.vfd.objects import ObjectFinder
 from perception.vision.vfd.resources import VisionResources
+from perception.world.scene import Box
 
 from .helpers import CAMS, Film, block
 
@@ -494,3 +495,51 @@ def test_blocks_the_top_camera_cannot_tell_apart_are_found(name, truth):
         Film(seed=4).shoot([b for _, b in truth]), COVERED)
     assert len(found) == len(truth), [(f.shape, f.position) for f in found]
     _each_near(found, truth, 8.0)
+
+
+
+STACKED_START = """\
+name: stacked
+seed: 7
+shapes:
+  big: [50, 50, 40]
+  mid: [40, 40, 30]
+  small: [30, 30, 25]
+teach:
+  objects:
+    t: {shape: small, at: [-200, 320]}
+  demonstration:
+    - pick: t
+    - place: t
+      on: table
+      at: [0, 200]
+execute:
+  objects:
+    s2: {shape: small, at: [150, 200]}
+"""
+
+
+@pytest.mark.parametrize("name,upper", [
+    # 30, 40 and 50 mm from the bottom up: the front face's width halfway up the two
+    # under the top lay on their seam's crease and read 21 mm (round 13, 07)
+    ("widening-three-stack", ["mid", "big"]),
+    # two 30 mm cubes under the 50 mm top: a line of the top's own face beyond its
+    # crease was read as a second face (round 13, v07b)
+    ("top-overhangs-two-cubes", ["small", "big"]),
+], ids=lambda v: v if isinstance(v, str) else "")
+def test_a_stack_under_an_overhanging_top_is_found(name, upper):
+    from perception.world.physics import World
+    from perception.world.scenario import load_text
+
+    names = ["s2", *(f"{n}{k}" for k, n in enumerate(upper))]
+    text = STACKED_START + "".join(f"    {names[k + 1]}: {{shape: {n}, on: {names[k]}}}\n"
+                                   for k, n in enumerate(upper))
+    sc = load_text(text, "stacked.yaml")
+    world = World(sc.execute.objects.values())
+    world.settle(0.5)
+    found = ObjectFinder(CAMS, VisionResources()).find(
+        Film(noise=sc.noise.pixel, seed=sc.seed).shoot(world.scene()), sc.shapes)
+    assert sorted(f.shape for f in found) == sorted(["small", *upper]), \
+        [(f.shape, f.position, f.size) for f in found]
+    truth = [(n, Box("block", c, world.sizes[n])) for n, c in world.positions().items()]
+    _each_near(found, [(sc.execute.objects[n].shape, b) for n, b in truth], 8.0)
