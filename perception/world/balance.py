@@ -6,7 +6,7 @@ dynamics, so a block kept its place however far it hung past a support's edge
 table, and the two cubes it carried stayed up, each on one neighbour, with their
 centres 6 mm past that neighbour's edge; both cameras saw nothing wrong, and no
 camera could have). After each world step every awake block that is not held is
-checked: when the centre of mass of its load (itself and what rides on it) lies
+checked: when the centre of mass of its load (itself and what it carries) lies
 more than TIP_MM past the y-span where it touches its supports, the load slides off
 that edge along y, riders and all, and falls in x-z; a block level with it in its
 way stops it there (it leans on that block, wedged). A real block would also turn
@@ -18,6 +18,7 @@ from __future__ import annotations
 from typing import Any
 
 from lbw_engine.model.geometry import TABLE, resting_on
+from perception.world.layout import Layout
 
 TIP_MM = 1.0  # how far past its supports' edge a load's centre may lie before it tips
 CLEAR_MM = 0.5  # a tipped block ends this far past the edge it went over
@@ -48,8 +49,10 @@ def tip_along_y(world: Any) -> list[str]:
         edge_lo, edge_hi = min(s[0] for s in spans), max(s[1] for s in spans)
         if edge_lo <= lo and hi <= edge_hi:
             continue  # it lies wholly over its supports: so does what rides on it
-        riders = _riders(name, boxes)
-        com = _centre_y(world, [name, *riders])
+        lay = Layout(world.positions(), dict(world.sizes),
+                     {n: tuple(resting_on(n, boxes)) for n in world.names})
+        riders = lay.carried(name)
+        com = lay.centre_of_mass([name, *riders])[1]
         if com < edge_lo - TIP_MM:
             dy = edge_lo - CLEAR_MM - hi
         elif com > edge_hi + TIP_MM:
@@ -75,22 +78,3 @@ def block_boxes(world: Any) -> dict[str, tuple]:
         out[name] = (((bb.left + bb.right) / 2, world.y[name], (bb.bottom + bb.top) / 2),
                      (bb.right - bb.left, world.sizes[name][1], bb.top - bb.bottom))
     return out
-
-
-def _riders(name: str, boxes: dict[str, tuple]) -> list[str]:
-    """Blocks resting on ``name``, directly or through others."""
-    out: list[str] = []
-    frontier = [name]
-    while frontier:
-        base = frontier.pop()
-        for other in boxes:
-            if other != name and other not in out and base in resting_on(other, boxes):
-                out.append(other)
-                frontier.append(other)
-    return out
-
-
-def _centre_y(world: Any, names: list[str]) -> float:
-    """The y of the centre of mass of ``names`` (uniform density)."""
-    mass = [world.sizes[n][0] * world.sizes[n][1] * world.sizes[n][2] for n in names]
-    return sum(m * world.y[n] for m, n in zip(mass, names, strict=True)) / sum(mass)

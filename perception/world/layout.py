@@ -68,6 +68,7 @@ class Layout:
 
         for name in specs:
             resolve(name)
+        lay.check_loads()
         return lay
 
     @classmethod
@@ -141,6 +142,41 @@ class Layout:
                     out.append(other)
                     frontier.append(other)
         return out
+
+    def carried(self, name: str) -> list[str]:
+        """Objects whose whole weight ``name`` bears: resting on it, or on it and on others
+        it bears, directly or through them (a beam across two towers is neither tower's)."""
+        out: list[str] = []
+        grown = True
+        while grown:
+            grown = False
+            for other, sup in self.support.items():
+                if other != name and other not in out and sup and \
+                        all(s == name or s in out for s in sup):
+                    out.append(other)
+                    grown = True
+        return out
+
+    def centre_of_mass(self, names: Sequence[str]) -> tuple[float, float]:
+        """x and y of the centre of mass of ``names`` (uniform density)."""
+        mass = [math.prod(self.size[n]) for n in names]
+        return tuple(sum(m * self.center[n][k] for m, n in zip(mass, names, strict=True))
+                     / sum(mass) for k in (0, 1))
+
+    def check_loads(self) -> None:
+        """Each block, with what it carries, balances on its supports (ValueError)."""
+        for name, on in self.support.items():
+            held_up = [s for s in on or () if s != "table"]
+            load = [name, *self.carried(name)] if held_up else []
+            if len(load) < 2:
+                continue  # check_box did the block alone
+            com = self.centre_of_mass(load)
+            if not all(min(self.bounds(s)[k][0] for s in held_up) - EPS <= com[k]
+                       <= max(self.bounds(s)[k][1] for s in held_up) + EPS for k in (0, 1)):
+                raise ValueError(
+                    f"'{name}' would tip off {', '.join(repr(s) for s in held_up)} under "
+                    f"what rests on it: their centre of mass (x {com[0]:.0f}, y {com[1]:.0f}) "
+                    "is not over them", name)
 
     def relations(self, roles: Roles) -> list[list]:
         """Support and holding relations in the actions.json form, named by the rules' roles
@@ -236,6 +272,7 @@ def _place(lay: Layout, step: Any, i: int) -> Any:
         try:
             for r in [step.obj, *riders]:
                 lay.check_box(r, lay.center[r], skip=moving)
+            lay.check_loads()
         except ValueError as exc:
             raise ValueError(exc.args[0], i, key if step.align or key != "align" else "on") \
                 from None

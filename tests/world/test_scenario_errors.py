@@ -72,6 +72,16 @@ ROWS = [
     # its footprint meets the plank's, its centre is 10 mm beyond the end (round 11, 108)
     ("rests-beyond-support", _with("[-40, 300], on: p", "[-90, 300], on: p"), 10,
      "teach.objects.c", "would tip off 'p'"),
+    # each block's centre is over its support, but the brick on the plank's end tips
+    # the plank off the brick under it (a load a world started at rest would keep up)
+    ("load-beyond-support", _with("on: p}\n", "on: p}\n    e: {shape: plank, at: [110, 100], "
+                                  "on: b}\n    f: {shape: brick, at: [180, 100], on: e}\n"),
+     11, "teach.objects.e", "would tip off 'b' under what rests on it"),
+    # the brick put on the plank's end tips the plank off the brick under it
+    ("placed-load-beyond-support",
+     _with("on: p}\n", "on: p}\n    e: {shape: plank, at: [110, 100], on: b}\n").replace(
+         "on: table\n      at: [0, 150]", "on: e\n      at: [180, 100]"),
+     16, "teach.demonstration[1].at", "would tip off 'b' under what rests on it"),
     ("placed-beyond-support", _steps("    - pick: a\n    - place: a\n      on: p\n"
                                      "      at: [-85, 300]\n"), 15,
      "teach.demonstration[1].at", "would tip off 'p'"),

@@ -43,11 +43,12 @@ ROWS = [
     ("cube on two cubes, the one under its centre removed: it tips off the other",
      {"a": ("cube", 0, 185, None), "b": ("cube", 0, 216, None),
       "c": ("cube", 0, 205, ("a", "b"))}, "b", "c", ("table",)),
-    ("slab balanced on a post, a cube on its far end tips both",
-     {"p": ("post", 0, 200, None), "s": ("slab", 0, 210, ("p",)),
-      "c": ("cube", 0, 240, ("s",))}, None, "s", ("table",)),
-    ("the same slab without the cube stays",
-     {"p": ("post", 0, 200, None), "s": ("slab", 0, 210, ("p",))}, None, "s", ("p",)),
+    ("slab on two posts with a cube on its end, the post under the end removed: both tip",
+     {"p": ("post", 0, 200, None), "q": ("post", 0, 240, None), "s": ("slab", 0, 210, ("p", "q")),
+      "c": ("cube", 0, 240, ("s",))}, "q", "s", ("table",)),
+    ("the same slab without the cube stays on the other post",
+     {"p": ("post", 0, 200, None), "q": ("post", 0, 240, None),
+      "s": ("slab", 0, 210, ("p", "q"))}, "q", "s", ("p",)),
 ]
 
 
