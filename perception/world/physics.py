@@ -74,8 +74,6 @@ class World:
             self.add_block(spec.name, spec.size, (x, y, z - SLOP * _depth(specs, spec.name)))
         for a, b in ((BLOCK, BLOCK), (BLOCK, FINGER)):
             space.on_collision(a, b, begin=self._filter, pre_solve=self._filter)
-        for shape in self.shapes.values():  # a layout starts at rest (the loader checked
-            shape.body.sleep()  # its balance): solver jitter tipped a 20-40-60 mm stack
 
     # -- building ----------------------------------------------------------------
     def add_block(self, name: str, size, center) -> None:
