@@ -94,6 +94,11 @@ class ObjectFinder(VFD):
                 fallback[k] = self.columns.height(faces[k], blobs, blob_areas, solid, rim)
             return fallback[k]
 
+        def misfit(rect, h: float) -> float:
+            """How far a top face as the top of a column h high is from every shape."""
+            x0, y0, x1, y1 = self.footprint(rect, h)
+            return nearest(shapes, np.array([x1 - x0, y1 - y0, h]))[1]
+
         def cost(pairing: dict[int, tuple[float, float]]) -> int:
             """Pixels the pairing's boxes get wrong in the two views."""
             cols = []
@@ -111,6 +116,16 @@ class ObjectFinder(VFD):
         measured = set()  # boxes whose height is their own side-view top face's
         for k, rect in enumerate(faces):
             height, score = height_of(k, pairing)
+            # A face left without a side-view top face may be a block the side view cannot
+            # see at all, named from above alone: where no silhouette explains it, or where
+            # its face reaches on under a block in front and the silhouette's height fits
+            # the shapes worse (the silhouette of a two-high stack is its own: 1176)
+            hidden = None if paired(k, pairing) or k in fallback and any(
+                frames(rect, f) for j, f in enumerate(faces) if j != k) else \
+                self.columns.behind(rect, solid, shapes, [f for j, f in enumerate(faces) if j != k])
+            if hidden is not None and (score < MIN_SCORE or hidden[1] != rect and misfit(
+                    rect, height) > misfit(hidden[1], hidden[0])):
+                height, score, rect = hidden[0], max(score, MIN_SCORE), hidden[1]
             if score < MIN_SCORE:
                 continue
             if paired(k, pairing):

@@ -21,6 +21,12 @@ from perception.vision.camera import Camera
 # height (bench 1267). Only the top is asked: lower down, a block standing on something
 # narrower overhangs background (a cube pushed to a plank's edge, fault bench 3001).
 COLUMN_SOLID, COLUMN_TOP_MM = 0.8, 15.0
+# A block on the table behind others, read from above alone (``Columns.behind``): its face
+# at the shape's own height is that shape's footprint within FIT_MM a side, and its whole
+# column falls on blocks in front in the side view (HIDDEN of its image solid: its hull,
+# drawn a pixel wide, may graze the background at its edges).
+FIT_MM, HIDDEN = 4.0, 0.9
+HIDDEN_SHARE = 0.5  # at most this share of such a face may lie under the block in front
 
 Footprint = Callable[[tuple, float], tuple[float, float, float, float]]
 
@@ -106,6 +112,27 @@ class Columns:
             return 0.0
         return 1.0 - float(solid[y0:y1, x0:x1][band].sum()) / n
 
+    def behind(self, rect, solid: np.ndarray, shapes: Mapping[str, tuple],
+               others: list) -> tuple[float, tuple] | None:
+        """A block standing on the table that the side view cannot see at all (the blocks
+        in front hide it), read from the top view alone: (height, face rect). Its height
+        is the one shape height at which the face's footprint is that shape's; where a
+        face in ``others`` abuts it, the face may be short of the shape on that side (a
+        higher block in front hides a band of it from above), and the rect returned
+        reaches under that face. None when no height, or more than one, fits, or when
+        the column would show in the side view. A cube knocked off a plank onto the
+        table behind the plank's pillar showed only its top (fault bench 3001)."""
+        fits = {}
+        for sx, sy, sz in shapes.values():
+            for size in ((sx, sy), (sy, sx)):
+                whole = _completed(rect, self.footprint(rect, float(sz)), size, others)
+                if whole is not None:
+                    fits[float(sz)] = whole
+        if len(fits) != 1:
+            return None
+        (h, whole), = fits.items()
+        return (h, whole) if self.solid_fraction(whole, h, solid) >= HIDDEN else None
+
     def solid_fraction(self, rect, h: float, solid: np.ndarray, z0: float = 0.0) -> float:
         """Fraction of the side-view image of the column [footprint] x [z0, h] not dark."""
         hull = self.hull(rect, h, solid.shape, z0)
@@ -168,3 +195,26 @@ class Columns:
             hits = [h for s, h in fine if s >= top - 1e-9]
             out.append((max(sc0, top), float(np.mean(hits)), lab))
         return sorted(out, reverse=True)
+
+
+def _completed(rect, extent, size, others) -> tuple | None:
+    """``rect`` (x0, y0, x1, y1 px) grown to a face of ``size`` (mm) whose ``extent`` (its
+    world footprint) it shows, or None: along each axis the face is as long as the size
+    within FIT_MM, or shorter and abutted on one side by a face in ``others``."""
+    out = list(rect)
+    for a, world in ((0, extent[2] - extent[0]), (1, extent[3] - extent[1])):
+        short = size[a] - world
+        if abs(short) <= FIT_MM:
+            continue
+        if short < 0 or short > HIDDEN_SHARE * size[a]:
+            return None  # longer than the shape, or mostly unseen: a rim, not a top
+        b = 1 - a
+        beside = [o for o in others if min(o[2 + b], rect[2 + b]) > max(o[b], rect[b])]
+        px = short * (rect[2 + a] - rect[a]) / world  # image px per mm along this axis
+        if any(abs(o[a] - rect[2 + a]) <= 1.0 for o in beside):
+            out[2 + a] += px  # the face abutting it is past its far edge
+        elif any(abs(o[2 + a] - rect[a]) <= 1.0 for o in beside):
+            out[a] -= px
+        else:
+            return None
+    return tuple(out)
