@@ -14,7 +14,6 @@ perception's detectors never see this module (tests/test_boundaries.py).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 
 import pymunk
@@ -32,6 +31,7 @@ FRICTION = 0.7
 
 SLOP = 0.1  # mm: pymunk's resting penetration (Space.collision_slop)
 Y_TOUCH = 1e-6  # mm: y-ranges overlapping by no more than this only touch (rounding)
+TIE_MM = 1.0  # blocks between the jaws whose fits differ by less are as wide
 
 BLOCK, FINGER = 1, 2  # collision types
 
@@ -287,7 +287,7 @@ class World:
         mid = g.y if across == 1 else g.body.position[0]
         fz0 = g.body.position[1] - TIP
         fz1 = fz0 + g.geometry.finger[2]
-        best, best_gap = None, math.inf
+        found = []  # (gap, bottom, name)
         for name in self.names:
             bb = self.shapes[name].bb
             lo, hi = self.extent(name, g.axis)
@@ -298,10 +298,14 @@ class World:
                 continue  # a neighbour soft fingers reach into, not one they close on
             if min(a1, mid + half) - max(a0, mid - half) <= 0:
                 continue
-            gap = (lo - left) + (right - hi)
-            if gap < best_gap:
-                best, best_gap = name, gap
-        return best
+            found.append(((lo - left) + (right - hi), bb.bottom, name))
+        if not found:
+            return None
+        # The best fit; of blocks as wide as it, the lowest, with the others riding on it
+        # (a cube carrying an equal cube: the jaws held the rider, the base stayed:
+        # round 14, v48p, v48y)
+        least = min(f[0] for f in found)
+        return min((f for f in found if f[0] <= least + TIE_MM), key=lambda f: f[1])[2]
 
     def grasp(self, g: Gripper, name: str) -> None:
         """Attach ``name`` to the gripper with force-limited joints; note its riders."""

@@ -219,7 +219,8 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
                                   "cube-10mm-25mm-in-front-of-an-80mm-post.yaml",
                                   # its pick seen by the front face's shade (round 12, 27)
                                   "cube-10mm-starting-on-a-60mm-block.yaml",
-                                  "cube-10mm-6mm-in-front-of-a-60mm-block.yaml"],
+                                  "cube-10mm-6mm-in-front-of-a-60mm-block.yaml",
+                                  "cube-carrying-a-block-as-wide.yaml"],
                          ids=["robot-lowers-fast", "equal-blocks-stacked", "disk-set-aside",
                               "withdraw-beside-a-block", "post-the-plan-leaves-alone",
                               "pick-beside-a-touching-block", "picked-where-just-put",
@@ -229,7 +230,7 @@ def test_no_detection_when_supports_end_hidden(tmp_path, capsys, name, units):
                               "small-pick-hidden-behind-a-block", "small-cube-behind-a-block",
                               "small-pick-beside-a-tall-block", "set-aside-under-no-overhang",
                               "small-cube-before-a-post", "small-cube-starting-on-a-block",
-                              "small-cube-before-a-block"])
+                              "small-cube-before-a-block", "carry-a-rider-as-wide"])
 def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     """Fault-free runs of users' scenarios (helper round 4): the monitor must not see a
     difference and redo an ACHIEVE (search.py leaving; matching.py _covered). Helper
@@ -250,7 +251,8 @@ def test_no_detection_on_a_clean_run_of_a_users_scenario(name):
     rose into view (ChangeNode.too_small). Round 11 (32): a cube set aside 2 mm under a
     plate's overhang was hidden from above (clearing._clear keeps the column free).
     Round 12 (v26b) and round 11 (v53b): a 10 mm cube in front of a taller block was
-    read 82-100 mm tall (objects_hidden._in_front_of)."""
+    read 82-100 mm tall (objects_hidden._in_front_of). Round 14 (v48y): the robot's jaws
+    held the block riding on the cube it picked (World.between)."""
     from lbw_engine.pipeline.run import run
     from perception.world.scenario import load
 

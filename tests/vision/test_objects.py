@@ -568,7 +568,8 @@ execute:
 """
 
 
-@pytest.mark.parametrize("x,y", [(-44, 380), (-60, 378)], ids=["fault-bench-3001", "behind-the-pillar"])
+@pytest.mark.parametrize("x,y", [(-44, 380), (-60, 378)],
+                         ids=["fault-bench-3001", "behind-the-pillar"])
 def test_a_block_behind_a_structure_is_read_from_above(x, y):
     """A cube knocked off a plank's end onto the table behind the plank's pillar: the
     side view shows it only as a strip of the structure's silhouette, and from above the

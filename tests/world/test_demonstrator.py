@@ -154,3 +154,39 @@ def test_blocks_laid_touching_end_where_the_scenario_says(name):
     final = sc.states[-1].center
     for obj, at in demo.world.positions().items():
         assert math.dist(at, final[obj]) < 4.0, (obj, at, final[obj])
+
+
+CARRIES = """\
+name: carries
+shapes:
+  base: [30, 30, 30]
+  rider: RIDER
+teach:
+  objects:
+    a: {shape: base, at: [-100, 200]}
+    b: {shape: rider, on: a}
+  demonstration:
+    - pick: a
+    - place: a
+      on: table
+      at: [100, 100]
+execute:
+  objects:
+    x: {shape: base, at: [200, 300]}
+"""
+
+
+@pytest.mark.parametrize("rider", ["[30, 30, 30]", "[30, 30, 20]", "[20, 20, 20]"],
+                         ids=["equal-cube", "as-wide-block", "narrower-cube"])
+def test_a_block_picked_with_one_on_it_carries_it(rider):
+    """The jaws close on the picked block and what rests on it rides along; a rider as
+    wide as the block between the jaws is not held in its place (round 14, v48p: the
+    hand held the top cube of two and the one it was told to pick stayed)."""
+    sc = load_text(CARRIES.replace("RIDER", rider), "carries.yaml")
+    demo = Demonstration(sc)
+    for _ in demo:
+        pass
+    pos = demo.world.positions()
+    assert pos["a"][:2] == pytest.approx((100.0, 100.0), abs=3.0)
+    assert pos["b"][:2] == pytest.approx((100.0, 100.0), abs=3.0)
+    assert demo.world.supports()["b"] == ("a",)
