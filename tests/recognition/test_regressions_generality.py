@@ -74,6 +74,11 @@ CASES = {
     # measured 1.2 mm into its neighbour's footprint, was read as put on it, though it
     # came down to the table, 10 mm under the neighbour's top (placement.py beside_target)
     "class3-tiny-cubes-touching-along-x": "tiny-row-x-touching.yaml",
+    # class 6 (helper round 14, v56y, v56u): equal cubes 40 mm apart at pixel 4 / tremor 3;
+    # at :Near the hand was 19 mm from the target and 21 mm from its neighbour, and equal
+    # tops broke no tie (envnodes/search.py grasped: such a tie waits while the hand is high)
+    "class6-equal-cubes-40mm-apart": "equal-cubes-40mm-apart-4x.yaml",
+    "class6-five-equal-cubes-40mm-apart": "five-equal-cubes-40mm-apart-4x.yaml",
 }
 
 

@@ -33,6 +33,7 @@ SUPPORT_SHARE = 0.3
 COMING_MM = 30.0
 DECIDE_MM = 60.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
+LEVEL_MM = 5.0  # ... and of those, the ones whose tops are this near the highest are as high
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
 MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target) lasts longer
 # A hand carrying an object that stops before it has gone anywhere (x, y) since its
@@ -179,7 +180,8 @@ class SearchNode(EnvNodeBase):
         At :Near the hand may still be 20 mm beside the grasp point, so a rider on a
         plank can reach into the hand-sized region before the plank does. The blocks
         found and what they rest on are candidates; the one whose centre is nearest the
-        hand wins, the upper one on a near tie (a tower's blocks are centred on each other).
+        hand wins, the upper one on a near tie (a tower's blocks are centred on each other);
+        blocks as high on a near tie wait (WAIT) until the hand is DECIDE_MM above them.
         """
         cands = {n.name: n for n in hits}
         todo = list(hits)
@@ -198,8 +200,15 @@ class SearchNode(EnvNodeBase):
         cands = {name: n for name, n in cands.items() if name not in covered} or cands
         dist = {name: float(np.hypot(*(np.asarray(n.position[:2]) - hand)))
                 for name, n in cands.items()}
-        near = min(dist.values()) + TIE_MM
-        return (max((n for n in cands.values() if dist[n.name] <= near), key=EnvNode.top).name,)
+        near = [n for n in cands.values() if dist[n.name] <= min(dist.values()) + TIE_MM]
+        top = max(n.top() for n in near)
+        level = [n for n in near if n.top() >= top - LEVEL_MM]
+        if len(level) > 1 and float(self.hand.hand[2]) - top > DECIDE_MM:
+            # blocks as high side by side, the hand between them: it is still coming in
+            # over one (equal cubes 40 mm apart, the approach begun 20 mm beside the
+            # target: round 14, v56y read its neighbour's NO-OP)
+            return WAIT
+        return (min(level, key=lambda n: dist[n.name]).name,)
 
     def confirm(self, region: Region3D, env: EnvModel, skip: set[str],
                 held: Region3D | None) -> tuple[str, ...]:
