@@ -25,6 +25,7 @@ from perception.vision.vfd.objects_rings import (
 )
 
 SEAT_MM = 4.5  # a frame's footprint and the front face under its seam agree this well
+SEAT_TIE_MM = 2.0  # seams whose faces fit within this of the best fit about as well
 
 
 def seat_rims(boxes: list[Box], cam, side: np.ndarray,
@@ -87,8 +88,9 @@ def seam_height(cam, side: np.ndarray,
     footprint's front edge, or at ``front`` (y, mm) where that lies further forward.
 
     The heights whose projection falls on the crease line itself form runs, a run per
-    crease; the run whose face width fits best is the seam, and its middle the height
-    (the width varies too little with the height to place the seam within a run)."""
+    crease; the run whose face width fits best (the highest of those that fit about as
+    well) is the seam, and its middle the height (the width varies too little with the
+    height to place the seam within a run)."""
     runs: list[list[tuple[float, float]]] = []  # (height, width error), per crease
     last = None
     for h in np.arange(5.0, below, 0.5):
@@ -104,5 +106,10 @@ def seam_height(cam, side: np.ndarray,
             last = h
     if not runs:
         return None
-    best = min(runs, key=lambda r: min(e for _, e in r))
+    # of seams whose faces fit about as well, the highest: a ring is the top of the block
+    # right under the one it frames (two equal discs under a cube: the one between the
+    # discs was taken, and the cube read 48 mm tall; round 14, 84)
+    least = min(e for r in runs for _, e in r)
+    best = max((r for r in runs if min(e for _, e in r) <= least + SEAT_TIE_MM),
+               key=lambda r: r[0][0])
     return float(np.mean([h for h, _ in best]))
