@@ -98,10 +98,21 @@ def moving(focus: str, model: EnvModel) -> set[str]:
 
 def blocker(focus: str, centre: Vec, axis: int, offset: float, rules: CommandRules,
             model: EnvModel) -> str | None:
-    """The first object a jaw would hit when gripping ``focus`` at ``centre``, if any."""
+    """The first object a jaw would hit when gripping ``focus`` at ``centre``, if any.
+
+    A rider that reaches past ``focus`` along the jaw axis is in the way: the jaws meet
+    it first (a 40 x 30 block on a 30 x 40 one, gripped along x: the jaws held the
+    rider, round 14, v48v)."""
     size = model.bodies[focus].size
-    return hit(jaw_regions(centre, size, axis, offset, rules), model, moving(focus, model),
-               2 * rules.jaw_clearance)
+    lo, hi = (model.bodies[focus].position[axis] + k * size[axis] / 2 for k in (-1, 1))
+
+    def inside(name: str) -> bool:
+        b = model.bodies[name]
+        return lo - 0.5 <= b.position[axis] - b.size[axis] / 2 and \
+            b.position[axis] + b.size[axis] / 2 <= hi + 0.5
+
+    return hit(jaw_regions(centre, size, axis, offset, rules), model,
+               {n for n in moving(focus, model) if inside(n)}, 2 * rules.jaw_clearance)
 
 
 def offsets(size: Vec, axis: int, rules: CommandRules) -> list[float]:

@@ -61,8 +61,14 @@ def finger_boxes(center: Vec3, size: Vec3, axis: int) -> list[tuple]:
 
 
 def has_room(lay: Layout, name: str, center: Vec3, axis: int) -> bool:
-    """Do the fingers fit beside ``name`` at ``center`` in ``lay`` (it and its riders aside)?"""
-    moving = {name, *lay.riders(name)}
+    """Do the fingers fit beside ``name`` at ``center`` in ``lay`` (it and its riders aside)?
+
+    A rider that reaches past the block along ``axis`` is in the fingers' way: they
+    would meet it first (a 40 x 30 block on a 30 x 40 one, taken closing along x:
+    the jaws held the rider, round 14, v48v)."""
+    lo, hi = lay.bounds(name)[axis]
+    moving = {name, *(r for r in lay.riders(name)
+                      if lo - 0.5 <= lay.bounds(r)[axis][0] and lay.bounds(r)[axis][1] <= hi + 0.5)}
     for box in finger_boxes(center, lay.size[name], axis):
         for other in lay.center:
             if other not in moving and overlaps(box, lay.bounds(other)):

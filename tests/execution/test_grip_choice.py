@@ -60,6 +60,15 @@ GRIPS = [
     ("15mm-cube-against-another-gripped-off-centre",
      model_of({"a": ((15.0, 15.0, 15.0), (0, 200, 0)), "n0": ((15.0, 15.0, 15.0), (15, 200, 0))}),
      (1, -5.0)),
+    # a rider reaching past the block along x is what jaws closing along x meet first:
+    # they close along y, where it is inside the block (round 14, v48v); a rider inside
+    # both ways rides along whichever way the jaws close
+    ("rider-wider-along-x-turns-the-wrist",
+     model_of({"a": ((30.0, 40.0, 30.0), (0, 200, 0)), "r": ((40.0, 30.0, 30.0), (0, 200, 30))}),
+     (1, 0.0)),
+    ("rider-inside-both-ways-keeps-x",
+     model_of({"a": ((30.0, 40.0, 30.0), (0, 200, 0)), "r": ((30.0, 30.0, 20.0), (0, 200, 30))}),
+     (0, 0.0)),
 ]
 
 

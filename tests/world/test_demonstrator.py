@@ -159,7 +159,7 @@ def test_blocks_laid_touching_end_where_the_scenario_says(name):
 CARRIES = """\
 name: carries
 shapes:
-  base: [30, 30, 30]
+  base: BASE
   rider: RIDER
 teach:
   objects:
@@ -176,13 +176,17 @@ execute:
 """
 
 
-@pytest.mark.parametrize("rider", ["[30, 30, 30]", "[30, 30, 20]", "[20, 20, 20]"],
-                         ids=["equal-cube", "as-wide-block", "narrower-cube"])
-def test_a_block_picked_with_one_on_it_carries_it(rider):
+@pytest.mark.parametrize("base,rider", [
+    ("[30, 30, 30]", "[30, 30, 30]"), ("[30, 30, 30]", "[30, 30, 20]"),
+    ("[30, 30, 30]", "[20, 20, 20]"),
+    # the rider reaches past the block along x: the fingers close along y (v48v)
+    ("[30, 40, 30]", "[40, 30, 30]")],
+    ids=["equal-cube", "as-wide-block", "narrower-cube", "rider-wider-along-x"])
+def test_a_block_picked_with_one_on_it_carries_it(base, rider):
     """The jaws close on the picked block and what rests on it rides along; a rider as
     wide as the block between the jaws is not held in its place (round 14, v48p: the
     hand held the top cube of two and the one it was told to pick stayed)."""
-    sc = load_text(CARRIES.replace("RIDER", rider), "carries.yaml")
+    sc = load_text(CARRIES.replace("BASE", base).replace("RIDER", rider), "carries.yaml")
     demo = Demonstration(sc)
     for _ in demo:
         pass
