@@ -21,6 +21,7 @@ from lbw_engine.rules.commands import CommandRules
 
 STEP_MM = 5.0  # spacing of candidate grip offsets
 AXIS_NAMES = ("x", "y")
+RIDER_SLACK_MM = 3.0  # a rider measured within this past the block it rides on is as wide
 
 
 def width(size: Vec, axis: int, rules: CommandRules) -> float | None:
@@ -102,14 +103,15 @@ def blocker(focus: str, centre: Vec, axis: int, offset: float, rules: CommandRul
 
     A rider that reaches past ``focus`` along the jaw axis is in the way: the jaws meet
     it first (a 40 x 30 block on a 30 x 40 one, gripped along x: the jaws held the
-    rider, round 14, v48v)."""
+    rider, round 14, v48v). Measured, an equal rider may reach RIDER_SLACK_MM past it (at
+    pixel 4 the equal cube on a cube did, and the grip was refused: v48w)."""
     size = model.bodies[focus].size
     lo, hi = (model.bodies[focus].position[axis] + k * size[axis] / 2 for k in (-1, 1))
 
     def inside(name: str) -> bool:
         b = model.bodies[name]
-        return lo - 0.5 <= b.position[axis] - b.size[axis] / 2 and \
-            b.position[axis] + b.size[axis] / 2 <= hi + 0.5
+        return lo - RIDER_SLACK_MM <= b.position[axis] - b.size[axis] / 2 and \
+            b.position[axis] + b.size[axis] / 2 <= hi + RIDER_SLACK_MM
 
     return hit(jaw_regions(centre, size, axis, offset, rules), model,
                {n for n in moving(focus, model) if inside(n)}, 2 * rules.jaw_clearance)

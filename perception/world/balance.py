@@ -37,6 +37,8 @@ def tip_along_y(world: Any) -> list[str]:
         if g.holding is not None:
             held |= {g.holding, *g.riders}
     boxes = block_boxes(world)
+    lay = None  # the layout of supports, built once a load overhangs (held blocks rest on
+    # nothing: a block the hand still bears is no load on what it is lowered onto)
     tipped = []
     for name in awake:
         if name in held:
@@ -49,8 +51,10 @@ def tip_along_y(world: Any) -> list[str]:
         edge_lo, edge_hi = min(s[0] for s in spans), max(s[1] for s in spans)
         if edge_lo <= lo and hi <= edge_hi:
             continue  # it lies wholly over its supports: so does what rides on it
-        lay = Layout(world.positions(), dict(world.sizes),
-                     {n: tuple(resting_on(n, boxes)) for n in world.names})
+        if lay is None:
+            lay = Layout(world.positions(), dict(world.sizes),
+                         {n: () if n in held else tuple(resting_on(n, boxes))
+                          for n in world.names})
         riders = lay.carried(name)
         com = lay.centre_of_mass([name, *riders])[1]
         if com < edge_lo - TIP_MM:
@@ -59,13 +63,15 @@ def tip_along_y(world: Any) -> list[str]:
             dy = edge_hi + CLEAR_MM - lo
         else:
             continue
-        dy = world.free_run_y(name, dy)  # a block beside it at its level stops it there
+        moving = {name, *riders}  # a block level with it or with a rider stops it there
+        for n in moving:
+            dy = world.free_run_y(n, dy, moving)
         if abs(dy) < CLEAR_MM:
             continue  # wedged against that block: it leans on it
         world.shift_y(name, dy, riders)
         for n in (name, *riders):
             shapes[n].body.activate()
-        boxes = block_boxes(world)
+        boxes, lay = block_boxes(world), None
         tipped.append(name)
     return tipped
 

@@ -31,7 +31,7 @@ FRICTION = 0.7
 
 SLOP = 0.1  # mm: pymunk's resting penetration (Space.collision_slop)
 Y_TOUCH = 1e-6  # mm: y-ranges overlapping by no more than this only touch (rounding)
-TIE_MM = 1.0  # blocks between the jaws whose fits differ by less are as wide
+TIE_MM, SPAN_TIE_MM = 1.0, 5.0  # blocks between the jaws: as wide; spanned as far
 
 BLOCK, FINGER = 1, 2  # collision types
 
@@ -75,7 +75,6 @@ class World:
         for a, b in ((BLOCK, BLOCK), (BLOCK, FINGER)):
             space.on_collision(a, b, begin=self._filter, pre_solve=self._filter)
 
-    # -- building ----------------------------------------------------------------
     def add_block(self, name: str, size, center) -> None:
         """Add a box of ``size`` (x, y, z mm) with its centre at ``center``."""
         sx, sy, sz = map(float, size)
@@ -138,14 +137,14 @@ class World:
                 return False
         return True
 
-    def free_run_y(self, name: str, dy: float) -> float:
+    def free_run_y(self, name: str, dy: float, along: Iterable[str] = ()) -> float:
         """How far (signed, at most ``dy``) ``name`` slides along y before it meets a block
-        overlapping it in x-z."""
+        overlapping it in x-z (not one of those moving ``along`` with it)."""
         bb, (lo, hi) = self.shapes[name].bb, self.extent(name, 1)
         out = dy
         for n in self.names:
             ob, (olo, ohi) = self.shapes[n].bb, self.extent(n, 1)
-            if n == name or not _meet_xz(bb, ob):
+            if n == name or n in along or not _meet_xz(bb, ob):
                 continue  # not level with it, or beside its path: never met
             if dy > 0 and olo >= hi - SLOP:
                 out = min(out, max(0.0, olo - hi))
@@ -287,7 +286,7 @@ class World:
         mid = g.y if across == 1 else g.body.position[0]
         fz0 = g.body.position[1] - TIP
         fz1 = fz0 + g.geometry.finger[2]
-        found = []  # (gap, bottom, name)
+        found = []  # (gap, height spanned, bottom, name)
         for name in self.names:
             bb = self.shapes[name].bb
             lo, hi = self.extent(name, g.axis)
@@ -298,14 +297,16 @@ class World:
                 continue  # a neighbour soft fingers reach into, not one they close on
             if min(a1, mid + half) - max(a0, mid - half) <= 0:
                 continue
-            found.append(((lo - left) + (right - hi), bb.bottom, name))
+            reach = min(bb.top, fz1) - max(bb.bottom, fz0)  # how much of it the fingers span
+            found.append(((lo - left) + (right - hi), reach, bb.bottom, name))
         if not found:
             return None
-        # The best fit; of blocks as wide as it, the lowest, with the others riding on it
-        # (a cube carrying an equal cube: the jaws held the rider, the base stayed:
-        # round 14, v48p, v48y)
-        least = min(f[0] for f in found)
-        return min((f for f in found if f[0] <= least + TIE_MM), key=lambda f: f[1])[2]
+        # The best fit; of blocks as wide, those the fingers span most, then the lowest: a
+        # cube carrying an equal cube was held by the rider (round 14, v48p), and fingertips
+        # grazing the block under the one gripped must not take the tower (review)
+        wide = [f for f in found if f[0] <= min(g[0] for g in found) + TIE_MM]
+        most = max(f[1] for f in wide)
+        return min((f for f in wide if f[1] >= most - SPAN_TIE_MM), key=lambda f: f[2])[3]
 
     def grasp(self, g: Gripper, name: str) -> None:
         """Attach ``name`` to the gripper with force-limited joints; note its riders."""

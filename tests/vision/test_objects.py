@@ -627,3 +627,19 @@ def test_a_cube_on_two_equal_discs_is_three_blocks(x, y):
              for n, c in world.positions().items()]
     assert len(found) == len(truth), [(f.shape, f.position, f.size) for f in found]
     _each_near(found, truth, 5.0)
+
+
+def test_two_shapes_that_fit_a_face_seen_from_above_alone_name_neither():
+    """A face read from above alone that two shapes of one height fit (the face short of
+    both on the side under the block in front) names neither: the order of the shape
+    list chose one (review of stop 31: a 40 x 52 x 40 block listed after the cube)."""
+    from perception.world.physics import World
+    from perception.world.scenario import load_text
+
+    text = BEHIND.replace("  plank: [160, 60, 20]\n",
+                          "  plank: [160, 60, 20]\n  long: [40, 52, 40]\n")
+    sc = load_text(text + "    low: {shape: cube, at: [-44, 380]}\n", "behind.yaml")
+    world = World(sc.execute.objects.values())
+    found = ObjectFinder(CAMS, VisionResources()).find(
+        Film(noise=sc.noise.pixel, seed=sc.seed).shoot(world.scene()), sc.shapes)
+    assert "long" not in [f.shape for f in found], [(f.shape, f.position) for f in found]

@@ -18,6 +18,8 @@ shapes:
   beam: [30, 150, 20]
   slab: [30, 90, 10]
   cube: [30, 30, 30]
+  tall: [30, 30, 72]
+  bar: [150, 30, 20]
 teach:
   objects:
     t: {shape: cube, at: [250, 50]}
@@ -96,3 +98,63 @@ def test_two_loads_tipping_into_one_gap_do_not_pass_through_each_other():
     pos = world.positions()
     level = abs(pos["l"][2] - pos["r"][2]) < 30.0
     assert not level or min(hi_l, hi_r) - max(lo_l, lo_r) <= 0.5
+
+
+def _world(objects: dict) -> World:
+    world = World(load_text(_scenario(objects, False), "balance.yaml").execute.objects.values())
+    world.settle(0.3)
+    return world
+
+
+def test_a_block_still_in_the_hand_is_no_load():
+    """A cube lowered onto a slab's overhanging end, still held: the hand bears it, and
+    the slab must not tip under it, nor the cube leave the fingers along y (review of
+    stop 31: the held cube was counted as the slab's load and moved 50 mm off its grip)."""
+    from perception.world.hand import Gripper
+
+    world = _world({"p": ("post", 0, 200, None), "s": ("slab", 0, 210, ("p",)),
+                    "c": ("cube", 150, 240, None)})
+    g = world.add_gripper(Gripper((150, 240, 120), opening=60, kind="robot", y_contacts=True))
+    for target in ((150, 240, 15), "close", (150, 240, 120), (0, 240, 120), (0, 240, 84)):
+        if target == "close":
+            g.close()
+        else:
+            g.move_to(target)
+        world.settle(1.5)
+    assert g.holding == "c"
+    assert world.y["s"] == pytest.approx(210.0, abs=0.5)
+    assert world.y["c"] == pytest.approx(g.y, abs=0.5)
+
+
+def test_a_tipping_load_stops_where_its_rider_meets_a_block():
+    """The slab slides off its post along y with a cube on its end; the cube meets a bar
+    on two tall posts at its level and stops there, the slab with it: no block passes
+    into another (review of stop 31: the rider was slid into the bar)."""
+    world = _world({"p": ("post", 0, 200, None), "q": ("post", 0, 240, None),
+                    "s": ("slab", 0, 210, ("p", "q")), "c": ("cube", 0, 240, ("s",)),
+                    "r1": ("tall", -60, 300, None), "r2": ("tall", 60, 300, None),
+                    "b": ("bar", 0, 300, ("r1", "r2"))})
+    world.remove_block("q")
+    for _ in range(60):  # at every step: a block inside another is parted at once
+        world.step(1 / 30)
+        (c0, c1), (b0, b1) = world.extent("c", 1), world.extent("b", 1)
+        level = abs(world.positions()["c"][2] - world.positions()["b"][2]) < 25.0
+        assert not level or min(c1, b1) - max(c0, b0) <= 0.5
+    assert world.positions()["b"][2] == pytest.approx(82.0, abs=1.0)  # the bar stays up
+
+
+def test_jaws_on_the_top_of_two_equal_cubes_hold_the_top_one():
+    """Fingertips a few mm below the seam of two equal cubes also reach the lower one;
+    the jaws hold the one they span most, not the tower (review of stop 31)."""
+    from perception.world.hand import TIP, Gripper
+
+    for below in (0.5, 2.0, 6.0):
+        world = _world({"a": ("cube", 0, 200, None), "b": ("cube", 0, 200, ("a",))})
+        z = world.shapes["a"].bb.top - below + TIP
+        g = world.add_gripper(Gripper((0, 200, z + 60), opening=50, kind="robot",
+                                      y_contacts=True))
+        g.move_to((0, 200, z))
+        world.settle(1.3)
+        g.close()
+        world.settle(1.0)
+        assert g.holding == "b", below

@@ -122,15 +122,15 @@ class Columns:
         reaches under that face. None when no height, or more than one, fits, or when
         the column would show in the side view. A cube knocked off a plank onto the
         table behind the plank's pillar showed only its top (fault bench 3001)."""
-        fits = {}
+        fits = set()  # (height, face): shapes of one height and size read alike
         for sx, sy, sz in shapes.values():
             for size in ((sx, sy), (sy, sx)):
                 whole = _completed(rect, self.footprint(rect, float(sz)), size, others)
                 if whole is not None:
-                    fits[float(sz)] = whole
+                    fits.add((float(sz), tuple(round(float(v), 1) for v in whole)))
         if len(fits) != 1:
-            return None
-        (h, whole), = fits.items()
+            return None  # no shape, or several that read the face differently
+        (h, whole), = fits
         return (h, whole) if self.solid_fraction(whole, h, solid) >= HIDDEN else None
 
     def solid_fraction(self, rect, h: float, solid: np.ndarray, z0: float = 0.0) -> float:
