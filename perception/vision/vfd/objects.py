@@ -118,13 +118,16 @@ class ObjectFinder(VFD):
             height, score = height_of(k, pairing)
             # A face left without a side-view top face may be a block the side view cannot
             # see at all, named from above alone: where no silhouette explains it, or where
-            # its face reaches on under a block in front and the silhouette's height fits
-            # the shapes worse (the silhouette of a two-high stack is its own: 1176)
+            # its face reaches on under a block in front or no stack is as high as the
+            # silhouette, and the silhouette's height fits the shapes worse (a two-high
+            # stack's silhouette is its own: 1176; a cube knocked off a plank's end lay
+            # behind its pillar, 3.7 mm past the table's edge: fault bench 3001)
             hidden = None if paired(k, pairing) or k in fallback and any(
                 frames(rect, f) for j, f in enumerate(faces) if j != k) else \
                 self.columns.behind(rect, solid, shapes, [f for j, f in enumerate(faces) if j != k])
-            if hidden is not None and (score < MIN_SCORE or hidden[1] != rect and misfit(
-                    rect, height) > misfit(hidden[1], hidden[0])):
+            if hidden is not None and (score < MIN_SCORE or (
+                    hidden[1] != rect or not self.columns.stacked(rect, height, shapes))
+                    and misfit(rect, height) > misfit(hidden[1], hidden[0])):
                 height, score, rect = hidden[0], max(score, MIN_SCORE), hidden[1]
             if score < MIN_SCORE:
                 continue

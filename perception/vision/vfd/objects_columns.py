@@ -27,6 +27,7 @@ COLUMN_SOLID, COLUMN_TOP_MM = 0.8, 15.0
 # drawn a pixel wide, may graze the background at its edges).
 FIT_MM, HIDDEN = 4.0, 0.9
 HIDDEN_SHARE = 0.5  # at most this share of such a face may lie under the block in front
+STACK_SUM_MM = 2.0  # a silhouette this near the height of a stack of shapes may be one
 
 Footprint = Callable[[tuple, float], tuple[float, float, float, float]]
 
@@ -132,6 +133,19 @@ class Columns:
             return None  # no shape, or several that read the face differently
         (h, whole), = fits
         return (h, whole) if self.solid_fraction(whole, h, solid) >= HIDDEN else None
+
+    def stacked(self, rect, h: float, shapes: Mapping[str, tuple]) -> bool:
+        """Whether a column ``h`` high under this face could be two or three blocks: a
+        shape whose footprint the face is at ``h`` on one or two others, their heights
+        summing to ``h`` within STACK_SUM_MM."""
+        x0, y0, x1, y1 = self.footprint(rect, h)
+        tops = [s[2] for s in shapes.values() if any(
+            abs(x1 - x0 - a) <= FIT_MM and abs(y1 - y0 - b) <= FIT_MM
+            for a, b in ((s[0], s[1]), (s[1], s[0])))]
+        zs = [s[2] for s in shapes.values()]
+        return any(abs(t + u - h) <= STACK_SUM_MM or any(abs(t + u + v - h) <= STACK_SUM_MM
+                                                         for v in zs)
+                   for t in tops for u in zs)
 
     def solid_fraction(self, rect, h: float, solid: np.ndarray, z0: float = 0.0) -> float:
         """Fraction of the side-view image of the column [footprint] x [z0, h] not dark."""
