@@ -16,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from lbw_engine.model.env import EnvModel
-from lbw_engine.model.geometry import Box, Vec, overlap
+from lbw_engine.model.geometry import Box, Vec, overlap, within_along
 from lbw_engine.rules.commands import CommandRules
 
 STEP_MM = 5.0  # spacing of candidate grip offsets
@@ -105,16 +105,12 @@ def blocker(focus: str, centre: Vec, axis: int, offset: float, rules: CommandRul
     it first (a 40 x 30 block on a 30 x 40 one, gripped along x: the jaws held the
     rider, round 14, v48v). Measured, an equal rider may reach RIDER_SLACK_MM past it (at
     pixel 4 the equal cube on a cube did, and the grip was refused: v48w)."""
-    size = model.bodies[focus].size
-    lo, hi = (model.bodies[focus].position[axis] + k * size[axis] / 2 for k in (-1, 1))
-
-    def inside(name: str) -> bool:
-        b = model.bodies[name]
-        return lo - RIDER_SLACK_MM <= b.position[axis] - b.size[axis] / 2 and \
-            b.position[axis] + b.size[axis] / 2 <= hi + RIDER_SLACK_MM
-
-    return hit(jaw_regions(centre, size, axis, offset, rules), model,
-               {n for n in moving(focus, model) if inside(n)}, 2 * rules.jaw_clearance)
+    f = model.bodies[focus]
+    inside = {n for n in moving(focus, model) if within_along(
+        model.bodies[n].position, model.bodies[n].size, f.position, f.size, axis,
+        RIDER_SLACK_MM)}
+    return hit(jaw_regions(centre, f.size, axis, offset, rules), model, inside,
+               2 * rules.jaw_clearance)
 
 
 def offsets(size: Vec, axis: int, rules: CommandRules) -> list[float]:

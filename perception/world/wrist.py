@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from lbw_engine.model.geometry import within_along
 from perception.world.hand import CLEARANCE, TIP, GripperGeometry, grasp_offset
 from perception.world.layout import Layout, box_bounds, overlaps
 
@@ -66,9 +67,8 @@ def has_room(lay: Layout, name: str, center: Vec3, axis: int) -> bool:
     A rider that reaches past the block along ``axis`` is in the fingers' way: they
     would meet it first (a 40 x 30 block on a 30 x 40 one, taken closing along x:
     the jaws held the rider, round 14, v48v)."""
-    lo, hi = lay.bounds(name)[axis]
-    moving = {name, *(r for r in lay.riders(name)
-                      if lo - 0.5 <= lay.bounds(r)[axis][0] and lay.bounds(r)[axis][1] <= hi + 0.5)}
+    moving = {name, *(r for r in lay.riders(name) if within_along(
+        lay.center[r], lay.size[r], lay.center[name], lay.size[name], axis, 0.5))}
     for box in finger_boxes(center, lay.size[name], axis):
         for other in lay.center:
             if other not in moving and overlaps(box, lay.bounds(other)):
