@@ -138,10 +138,10 @@ class Columns:
         """Whether a column ``h`` high under this face could be two or three blocks: a
         shape whose footprint the face is at ``h`` on one or two others, their heights
         summing to ``h`` within STACK_SUM_MM."""
-        x0, y0, x1, y1 = self.footprint(rect, h)
-        tops = [s[2] for s in shapes.values() if any(
-            abs(x1 - x0 - a) <= FIT_MM and abs(y1 - y0 - b) <= FIT_MM
-            for a, b in ((s[0], s[1]), (s[1], s[0])))]
+        extent = self.footprint(rect, h)
+        tops = [s[2] for s in shapes.values() if any(  # the face is its footprint as seen
+            _completed(rect, extent, size, []) is not None
+            for size in ((s[0], s[1]), (s[1], s[0])))]
         zs = [s[2] for s in shapes.values()]
         return any(abs(t + u - h) <= STACK_SUM_MM or any(abs(t + u + v - h) <= STACK_SUM_MM
                                                          for v in zs)
