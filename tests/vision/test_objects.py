@@ -498,25 +498,38 @@ def test_blocks_the_top_camera_cannot_tell_apart_are_found(name, truth):
 
 
 
-STACKED_START = """\
-name: stacked
-seed: 7
-shapes:
-  big: [50, 50, 40]
-  mid: [40, 40, 30]
-  small: [30, 30, 25]
-teach:
-  objects:
-    t: {shape: small, at: [-200, 320]}
-  demonstration:
-    - pick: t
-    - place: t
-      on: table
-      at: [0, 200]
-execute:
-  objects:
-    s2: {shape: small, at: [150, 200]}
-"""
+
+def _execute_scenario(seed: int, shapes: dict, objects: str) -> str:
+    """A scenario whose execution layout is ``objects`` (execute.objects lines); the
+    teach side is one block moved once (the finder reads the execution layout only)."""
+    first = next(iter(shapes))
+    return (f"name: finder\nseed: {seed}\nshapes:\n"
+            + "".join(f"  {n}: {list(v)}\n" for n, v in shapes.items())
+            + f"teach:\n  objects:\n    t: {{shape: {first}, at: [-200, 100]}}\n"
+            "  demonstration:\n    - pick: t\n    - place: t\n      on: table\n"
+            "      at: [0, 200]\nexecute:\n  objects:\n" + objects)
+
+
+def _found_in_world(text: str, settle: bool = True, moved: tuple = ()):
+    """The finder's reading of a scenario's execution layout, built in the simulated world
+    (settled, then ``moved`` = (name, y) put at y), and the truth: (found, truth, world)."""
+    from perception.world.physics import World
+    from perception.world.scenario import load_text
+
+    sc = load_text(text, "finder.yaml")
+    world = World(sc.execute.objects.values())
+    if settle:
+        world.settle(0.5)
+    for name, y in moved:
+        world.y[name] = y
+    found = ObjectFinder(CAMS, VisionResources()).find(
+        Film(noise=sc.noise.pixel, seed=sc.seed).shoot(world.scene()), sc.shapes)
+    truth = [(sc.execute.objects[n].shape, Box("block", c, world.sizes[n]))
+             for n, c in world.positions().items()]
+    return found, truth, world
+
+
+INVERTED = {"big": (50, 50, 40), "mid": (40, 40, 30), "small": (30, 30, 25)}
 
 
 @pytest.mark.parametrize("name,upper", [
@@ -528,40 +541,18 @@ execute:
     ("top-overhangs-two-cubes", ["small", "big"]),
 ], ids=lambda v: v if isinstance(v, str) else "")
 def test_a_stack_under_an_overhanging_top_is_found(name, upper):
-    from perception.world.physics import World
-    from perception.world.scenario import load_text
-
     names = ["s2", *(f"{n}{k}" for k, n in enumerate(upper))]
-    text = STACKED_START + "".join(f"    {names[k + 1]}: {{shape: {n}, on: {names[k]}}}\n"
-                                   for k, n in enumerate(upper))
-    sc = load_text(text, "stacked.yaml")
-    world = World(sc.execute.objects.values())
-    world.settle(0.5)
-    found = ObjectFinder(CAMS, VisionResources()).find(
-        Film(noise=sc.noise.pixel, seed=sc.seed).shoot(world.scene()), sc.shapes)
+    found, truth, _ = _found_in_world(_execute_scenario(7, INVERTED, (
+        "    s2: {shape: small, at: [150, 200]}\n" + "".join(
+            f"    {names[k + 1]}: {{shape: {n}, on: {names[k]}}}\n"
+            for k, n in enumerate(upper)))))
     assert sorted(f.shape for f in found) == sorted(["small", *upper]), \
         [(f.shape, f.position, f.size) for f in found]
-    truth = [(n, Box("block", c, world.sizes[n])) for n, c in world.positions().items()]
-    _each_near(found, [(sc.execute.objects[n].shape, b) for n, b in truth], 8.0)
+    _each_near(found, truth, 8.0)
 
 
+BEHIND_SHAPES = {"cube": (40, 40, 40), "block": (50, 50, 50), "plank": (160, 60, 20)}
 BEHIND = """\
-name: behind
-seed: 3001
-shapes:
-  block: [50, 50, 50]
-  cube: [40, 40, 40]
-  plank: [160, 60, 20]
-teach:
-  objects:
-    t: {shape: cube, at: [-200, 100]}
-  demonstration:
-    - pick: t
-    - place: t
-      on: table
-      at: [0, 200]
-execute:
-  objects:
     pillar: {shape: block, at: [-66, 332]}
     plank: {shape: plank, at: [-68, 333], on: pillar}
     up: {shape: cube, at: [-21, 333], on: plank}
@@ -575,37 +566,11 @@ def test_a_block_behind_a_structure_is_read_from_above(x, y):
     side view shows it only as a strip of the structure's silhouette, and from above the
     plank hides a band of its top face (fault bench 3001, once a load past its
     support's edge along y tips)."""
-    from perception.world.physics import World
-    from perception.world.scenario import load_text
-
-    sc = load_text(BEHIND + f"    low: {{shape: cube, at: [{x}, {y}]}}\n", "behind.yaml")
-    world = World(sc.execute.objects.values())
-    found = ObjectFinder(CAMS, VisionResources()).find(
-        Film(noise=sc.noise.pixel, seed=sc.seed).shoot(world.scene()), sc.shapes)
-    truth = [(sc.execute.objects[n].shape, Box("block", c, world.sizes[n]))
-             for n, c in world.positions().items()]
+    found, truth, _ = _found_in_world(_execute_scenario(
+        3001, BEHIND_SHAPES, BEHIND + f"    low: {{shape: cube, at: [{x}, {y}]}}\n"),
+        settle=False)
     assert len(found) == len(truth), [(f.shape, f.position, f.size) for f in found]
     _each_near(found, truth, 5.0)
-
-
-DISCS = """\
-name: discs
-seed: 184
-shapes:
-  cube: [30, 30, 30]
-  disc: [50, 50, 20]
-teach:
-  objects:
-    a: {shape: cube, at: [-220, 60]}
-  demonstration:
-    - pick: a
-    - place: a
-      on: table
-      at: [0, 200]
-execute:
-  objects:
-    x: {shape: cube, at: [200, 100]}
-"""
 
 
 @pytest.mark.parametrize("x,y", [(-200, 300), (200, 300), (-200, 100), (-100, 300)])
@@ -613,18 +578,11 @@ def test_a_cube_on_two_equal_discs_is_three_blocks(x, y):
     """The ring around the cube is the upper disc's top, at the seam right under the
     cube; the seam between the discs fits it as well and was taken (round 14, 84: the
     cube read 48 mm tall, one disc lost)."""
-    from perception.world.physics import World
-    from perception.world.scenario import load_text
-
-    sc = load_text(DISCS + f"    d1: {{shape: disc, at: [{x}, {y}]}}\n"
-                           "    d2: {shape: disc, on: d1}\n    y: {shape: cube, on: d2}\n",
-                   "discs.yaml")
-    world = World(sc.execute.objects.values())
-    world.settle(0.5)
-    found = ObjectFinder(CAMS, VisionResources()).find(
-        Film(noise=sc.noise.pixel, seed=sc.seed).shoot(world.scene()), sc.shapes)
-    truth = [(sc.execute.objects[n].shape, Box("block", c, world.sizes[n]))
-             for n, c in world.positions().items()]
+    found, truth, _ = _found_in_world(_execute_scenario(
+        184, {"cube": (30, 30, 30), "disc": (50, 50, 20)},
+        "    x: {shape: cube, at: [200, 100]}\n"
+        f"    d1: {{shape: disc, at: [{x}, {y}]}}\n"
+        "    d2: {shape: disc, on: d1}\n    y: {shape: cube, on: d2}\n"))
     assert len(found) == len(truth), [(f.shape, f.position, f.size) for f in found]
     _each_near(found, truth, 5.0)
 
@@ -633,61 +591,27 @@ def test_two_shapes_that_fit_a_face_seen_from_above_alone_name_neither():
     """A face read from above alone that two shapes of one height fit (the face short of
     both on the side under the block in front) names neither: the order of the shape
     list chose one (review of stop 31: a 40 x 52 x 40 block listed after the cube)."""
-    from perception.world.physics import World
-    from perception.world.scenario import load_text
-
-    text = BEHIND.replace("  plank: [160, 60, 20]\n",
-                          "  plank: [160, 60, 20]\n  long: [40, 52, 40]\n")
-    sc = load_text(text + "    low: {shape: cube, at: [-44, 380]}\n", "behind.yaml")
-    world = World(sc.execute.objects.values())
-    found = ObjectFinder(CAMS, VisionResources()).find(
-        Film(noise=sc.noise.pixel, seed=sc.seed).shoot(world.scene()), sc.shapes)
+    found, _, _ = _found_in_world(_execute_scenario(
+        3001, {**BEHIND_SHAPES, "long": (40, 52, 40)},
+        BEHIND + "    low: {shape: cube, at: [-44, 380]}\n"), settle=False)
     assert "long" not in [f.shape for f in found], [(f.shape, f.position) for f in found]
 
 
-PLATE_BEHIND = """\
-name: plate-behind
-seed: 80
-shapes:
-  post: [30, 30, 50]
-  plate: [160, 60, 10]
-teach:
-  objects:
-    t: {shape: post, at: [-200, 100]}
-  demonstration:
-    - pick: t
-    - place: t
-      on: table
-      at: [0, 200]
-execute:
-  objects:
-    q1: {shape: post, at: [0.5, 199.6]}
-    q2: {shape: post, at: [61.3, 198.9]}
-    q3: {shape: post, at: [-61.1, 201.2]}
-    pk: {shape: plate, at: [-0.5, 246.7]}
-"""
-
-
-@pytest.mark.parametrize("text,name,y", [
+@pytest.mark.parametrize("seed,shapes,objects,moved", [
     # the cube knocked off the plank's end came to rest 3.7 mm past the table's back
     # edge (the loader refuses that place: the world is moved after loading); its face
     # fit the cube without reaching under the plank, and the silhouette's 66 mm won
-    (BEHIND + "    low: {shape: cube, at: [-44, 380]}\n", "low", 383.7),
+    (3001, BEHIND_SHAPES, BEHIND + "    low: {shape: cube, at: [-44, 380]}\n",
+     ("low", 383.7)),
     # a plate slid off three posts along y lay 2 mm behind them, read 28 mm thick
     # (round 13, v80c)
-    (PLATE_BEHIND, "pk", 246.7),
+    (80, {"post": (30, 30, 50), "plate": (160, 60, 10)},
+     "    q1: {shape: post, at: [0.5, 199.6]}\n    q2: {shape: post, at: [61.3, 198.9]}\n"
+     "    q3: {shape: post, at: [-61.1, 201.2]}\n    pk: {shape: plate, at: [-0.5, 246.7]}\n",
+     ("pk", 246.7)),
 ], ids=["fault-bench-3001-past-the-edge", "plate-behind-three-posts"])
-def test_a_block_behind_others_no_stack_explains_is_read_from_above(text, name, y):
-    from perception.world.physics import World
-    from perception.world.scenario import load_text
-
-    sc = load_text(text, "behind.yaml")
-    world = World(sc.execute.objects.values())
-    world.settle(0.5)
-    world.y[name] = y
-    found = ObjectFinder(CAMS, VisionResources()).find(
-        Film(noise=sc.noise.pixel, seed=sc.seed).shoot(world.scene()), sc.shapes)
-    truth = [(sc.execute.objects[n].shape, Box("block", c, world.sizes[n]))
-             for n, c in world.positions().items()]
+def test_a_block_behind_others_no_stack_explains_is_read_from_above(seed, shapes, objects,
+                                                                    moved):
+    found, truth, _ = _found_in_world(_execute_scenario(seed, shapes, objects), moved=[moved])
     assert len(found) == len(truth), [(f.shape, f.position, f.size) for f in found]
     _each_near(found, truth, 5.0)
