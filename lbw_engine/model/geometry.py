@@ -42,9 +42,9 @@ def footprints_meet(c1: Vec, s1: Vec, c2: Vec, s2: Vec, tol: float = SUPPORT_OVE
 
 def within_along(c: Vec, s: Vec, outer_c: Vec, outer_s: Vec, axis: int,
                  slack: float = 0.0) -> bool:
-    """Does box (c, s) reach no farther than box (outer_c, outer_s) along ``axis``, on
-    either side, but for ``slack`` mm? (A rider inside the block it rides on: the jaws
-    closing along ``axis`` meet the block, not it.)"""
+    """Does box (c, s) stay within box (outer_c, outer_s) along ``axis``, on either
+    side, but for ``slack`` mm? (A rider inside the block it rides on: the jaws closing
+    along ``axis`` meet the block, not it.)"""
     return abs(c[axis] - outer_c[axis]) + s[axis] / 2 <= outer_s[axis] / 2 + slack
 
 
