@@ -111,7 +111,14 @@ class ObjectFinder(VFD):
         top_img = self._read_full("top", frame.top)
         check = SilhouetteCheck(self.cameras, {"top": top_img >
                                                DARK_MAX, "side": solid})
-        pairing = assign(cands, cost)
+
+        def doubtful(pairing: dict[int, tuple[float, float]]) -> int:
+            """Paired columns as high as no shape and no stack of shapes."""
+            return sum(misfit(faces[k], h) >= STACK_MISMATCH_MM and not
+                       self.columns.stacked(faces[k], h, shapes)
+                       for k, (h, sc) in pairing.items() if sc >= MIN_SCORE)
+
+        pairing = assign(cands, cost, doubtful)
         boxes = []
         measured = set()  # boxes whose height is their own side-view top face's
         for k, rect in enumerate(faces):
@@ -274,10 +281,11 @@ class ObjectFinder(VFD):
                 # its width alone names it (three 40 mm cubes stacked, generated
                 # stacked-start 1012: the two under the top one were called a brick)
                 tall = all(abs(v[2] - rest) > STACK_MISMATCH_MM for v in shapes.values())
+                # along each axis no wider than a ring too thin to see: a 30 x 40 post
+                # under a 40 x 30 lid shows 5 mm strips along y only (generated 5143)
                 fits = {n: abs(lx - width) + (0.0 if tall else abs(lz - rest))
                         for n, (lx, ly, lz) in shapes.items()
-                        if rims.inside_thin_ring((max(sx, c1 - c0), max(sy, d1 - d0)), (lx, ly))
-                        or (lx <= max(sx, c1 - c0) + 8.0 and ly <= max(sy, d1 - d0) + 8.0)}
+                        if rims.thin_rings_only((max(sx, c1 - c0), max(sy, d1 - d0)), (lx, ly))}
                 if fits:
                     n = min(fits, key=fits.get)
                     # x from the front face: the upper block may stand off-centre

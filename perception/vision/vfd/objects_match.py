@@ -42,6 +42,7 @@ def greedy(cands: Sequence[Sequence[Candidate]], forced: dict[int, Candidate]
 
 
 def assign(cands: Sequence[Sequence[Candidate]], cost: Callable[[dict[int, tuple]], int],
+           doubtful: Callable[[dict[int, tuple]], int] | None = None,
            passes: int = 3) -> dict[int, tuple[float, float]]:
     """The pairing whose boxes best explain both views, starting from the greedy one.
 
@@ -51,12 +52,20 @@ def assign(cands: Sequence[Sequence[Candidate]], cost: Callable[[dict[int, tuple
     take their best remaining claim) and keeps the best improvement as a fixed
     choice. Only near-ties are reopened: the silhouettes of boxes standing on
     the table are a coarse model where blocks hide each other.
+
+    Where two pairings draw the views alike (within MIN_GAIN_PX), ``doubtful``
+    (the number of its columns no shape or stack of shapes is as high) decides:
+    a block standing just behind a tower, its face lifted to the tower's top, is
+    hidden there as well as the tower's own face is (helper round 14, AD).
     """
     forced: dict[int, Candidate] = {}
     best = greedy(cands, forced)
-    if all(len(cs) < 2 for cs in cands):
+    labels = [lab for cs in cands for _, _, lab in cs]
+    single = all(len(cs) < 2 for cs in cands)  # faces compete only for side faces then
+    if single and len(set(labels)) == len(labels):
         return best
     best_cost = cost(best)
+    best_doubt = doubtful(best) if doubtful else 0
     for _ in range(passes):
         improved = None
         for k, cs in enumerate(cands):
@@ -65,10 +74,15 @@ def assign(cands: Sequence[Sequence[Candidate]], cost: Callable[[dict[int, tuple
             for c in cs:
                 if c[0] < cs[0][0] - AMBIGUOUS or best.get(k, (None,))[0] == c[1]:
                     continue
+                if single and any(cands[j][0][2] == c[2] and c[0] < cands[j][0][0] - AMBIGUOUS
+                                  for j in best):
+                    continue  # another face holds that side face by a clear margin
                 trial = greedy(cands, {**forced, k: c})
                 tc = cost(trial)
-                if tc < best_cost - MIN_GAIN_PX:
-                    best, best_cost, improved = trial, tc, (k, c)
+                td = doubtful(trial) if doubtful and tc <= best_cost + MIN_GAIN_PX else 0
+                if tc < best_cost - MIN_GAIN_PX or (
+                        td < best_doubt and tc <= best_cost + MIN_GAIN_PX):
+                    best, best_cost, best_doubt, improved = trial, tc, td, (k, c)
         if improved is None:
             break
         forced[improved[0]] = improved[1]

@@ -310,6 +310,14 @@ def inside_thin_ring(top: Sequence[float], outline: Sequence[float]) -> bool:
                for t, o in zip(top, outline, strict=False))
 
 
+def thin_rings_only(cover: Sequence[float], lower: Sequence[float]) -> bool:
+    """Whether a block of footprint ``lower`` can stand under one covering ``cover`` with
+    what shows of its top, along each axis, no wider than a ring the top view cannot see
+    (inside_thin_ring's bound); narrower along an axis hides it there."""
+    return all(lo - c <= 2.0 * (RING_HIDDEN_MM + EDGE_MM)
+               for c, lo in zip(cover, lower, strict=False))
+
+
 def consistent(found: list, shapes: Mapping[str, Sequence[float]], fits_mm: float) -> list:
     """Drop readings that fit no shape and overlap the footprint of a lower block found
     under a stack: pieces of that block's thin ring (3 px here, 2 there, at pixel noise)
