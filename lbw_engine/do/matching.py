@@ -69,6 +69,16 @@ def anchors(plan: Plan, support: Collection[str]) -> dict[str, tuple[float, ...]
     return {n: taught[n] for n in plan_objects(plan) if n not in moved and n in taught}
 
 
+def resting(plan: Plan, support: Collection[str]) -> list[tuple[str, str]]:
+    """(object, the plan object it rests on) where the taught start had one plan object
+    on another: the root's SC- (start relations the task ends) and SI (relations it
+    keeps, such as a rider carried along), in plan order."""
+    root = plan.operators[plan.root]
+    names = set(plan_objects(plan))
+    return [(r.subject, o) for r in (*root.sc_minus, *root.si) if r.type in support
+            and r.subject in names for o in r.objects if o in names]
+
+
 def taught_shapes(plan: Plan, teach_objects: Mapping[str, Mapping]) -> dict[str, dict]:
     """Taught objects {name: {shape, position}}: plan.json's objects, else the scenario's."""
     return dict(plan.objects) if plan.objects is not None else dict(teach_objects)
@@ -79,6 +89,7 @@ def match_initial_state(
     relevant: Sequence[str],
     measured: Sequence[Measured],
     anchors: Mapping[str, Sequence[float]] | None = None,
+    stacked: Sequence[tuple[str, str]] = (),
 ) -> Matching:
     """Match the plan's objects to measured ones by shape, first come first served.
 
@@ -87,6 +98,10 @@ def match_initial_state(
     world coordinates). Each takes, nearest first, the measured object of its shape
     nearest that position: a user who leaves one cube of a row where it stood expects
     the row built on it, not on another cube of that shape lying elsewhere.
+    ``stacked``: (object, support) pairs the taught start had (``resting``); a measured
+    pair of their shapes, one lying on the other, goes to them before the rest are
+    served: a base taught carrying a rider is matched to a block carrying one, not to
+    the rider (generated 3107).
     Raises TaskFailed naming the first plan object whose shape has no
     (remaining) measured object.
     """
@@ -101,6 +116,20 @@ def match_initial_state(
         if name not in assigned and i in pool[taught[name]["shape"]]:
             assigned[name] = i
             pool[taught[name]["shape"]].remove(i)
+    for up, down in stacked:
+        if up not in relevant or down not in relevant or up not in taught or \
+                down not in taught:
+            continue
+        ups = [assigned[up]] if up in assigned else pool.get(taught[up]["shape"], [])
+        downs = [assigned[down]] if down in assigned else pool.get(taught[down]["shape"], [])
+        pair = next(((i, j) for j in downs for i in ups if i != j
+                     and _lies_on(measured[i], measured[j])), None)
+        if pair is None:
+            continue
+        for name, i in zip((up, down), pair, strict=True):
+            if name not in assigned:
+                assigned[name] = i
+                pool[taught[name]["shape"]].remove(i)
     for name in relevant:
         if name in assigned:
             continue
@@ -128,10 +157,13 @@ def match_initial_state(
     )
 
 
+def _lies_on(b: Measured, a: Measured) -> bool:
+    """Whether measured ``b``'s bottom is on measured ``a``'s top, their footprints met."""
+    top = a.position[2] + a.size[2] / 2
+    return abs(b.position[2] - b.size[2] / 2 - top) <= COVER_MM and \
+        footprints_meet(a.position, a.size, b.position, b.size, tol=0.0)
+
+
 def _covered(i: int, measured: Sequence[Measured]) -> bool:
     """Whether another measured object lies on measured object ``i``."""
-    a = measured[i]
-    top = a.position[2] + a.size[2] / 2
-    return any(j != i and abs(b.position[2] - b.size[2] / 2 - top) <= COVER_MM
-               and footprints_meet(a.position, a.size, b.position, b.size, tol=0.0)
-               for j, b in enumerate(measured))
+    return any(j != i and _lies_on(b, measured[i]) for j, b in enumerate(measured))

@@ -25,6 +25,7 @@ from lbw_engine.do.matching import (
     anchors,
     match_initial_state,
     plan_objects,
+    resting,
     taught_shapes,
 )
 from lbw_engine.do.monitor import pair_by_shape
@@ -103,7 +104,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     }
     try:
         fixed = anchors(plan, rules.support_relations)
-        matching = match_initial_state(taught, plan_objects(plan), measured, fixed)
+        matching = match_initial_state(taught, plan_objects(plan), measured, fixed,
+                                       resting(plan, rules.support_relations))
         report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
         plan = anchor_table_places(plan, rules.support_relations, fixed)
         model = _model(taught, sc.shapes, matching, measured, ruleset)

@@ -73,3 +73,25 @@ def test_an_anchored_object_takes_the_measured_one_nearest_its_taught_spot():
     m = match_initial_state(taught, ["k1", "k2", "k3"], measured, {"k1": (-40.0, 200.0, 15.0)})
     assert m.assigned == {"k1": 2, "k2": 0, "k3": 1}
     assert match_initial_state(taught, ["k1", "k2", "k3"], measured).assigned["k1"] == 0
+
+
+STACKS = [  # measured: a cube on a block, a cube on a cube (generated twins 3107's layout)
+    Measured("cube", (120.0, 55.0, 70.0), CUBE), Measured("block", (120.0, 55.0, 25.0),
+                                                         (50.0, 50.0, 50.0)),
+    Measured("cube", (-246.0, 85.0, 60.0), CUBE), Measured("cube", (-247.0, 85.0, 20.0), CUBE)]
+
+
+@pytest.mark.parametrize("relevant,stacked,want", [
+    # the base taught carrying the rider goes to the cube carrying one, and the rider to
+    # the cube on it; first come, first served (uncovered first) gave the base the cube
+    # on the block and the rider the other stack's top
+    (["base", "rider", "mid"], [("rider", "base")], {"base": 3, "rider": 2, "mid": 0}),
+    # the stack taught apart: first come, first served, uncovered first, as before
+    (["base", "rider", "mid"], [], {"base": 0, "rider": 2, "mid": 3}),
+    # a pair the workspace does not have (a cube on a disc) changes nothing
+    (["base", "rider", "mid"], [("rider", "disc1")], {"base": 0, "rider": 2, "mid": 3}),
+], ids=["SecVIIA-a-taught-stack-keeps-its-pair", "SecVIIA-no-stack-taught",
+        "SecVIIA-a-stack-not-measured"])
+def test_objects_taught_one_on_another_take_a_measured_pair(relevant, stacked, want):
+    taught = {n: {"shape": "cube"} for n in relevant}
+    assert match_initial_state(taught, relevant, STACKS, stacked=stacked).assigned == want
