@@ -58,6 +58,11 @@ CLASS = {
                                     for o in w.objects.values()),
     "rearrange": lambda sc: any(sc.teach.objects[s.obj].on != ("table",)
                                 for s in sc.demonstration if s.kind == "pick"),
+    # a base picked with its rider on it, or small blocks a block apart
+    "twins": lambda sc: any(o.on == (s.obj,) for s in sc.demonstration if s.kind == "pick"
+                            for o in sc.teach.objects.values()) or (
+        min(min(v) for v in sc.shapes.values()) <= 20
+        and any(g >= 10 for _, g in _neighbour_gaps(sc))),
 }
 
 

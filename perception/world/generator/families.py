@@ -18,6 +18,8 @@ half of them so their rows run along x. The families, and what each exercises:
 | stacked-start  | classic structures whose parts start stacked, in teach and in execute  |
 | rearrange      | the top of a stack taken off and put elsewhere; a loaded slat moved;    |
 |                | a deck taken off two piers and one pier stood on it                     |
+| twins          | a base moved with a rider as wide or wider across one side; a row of    |
+|                | equal small blocks about a block apart                                  |
 
 Sizes are integers drawn from the seed; every builder keeps structures under
 MAX_HEIGHT (the robot's carrying height, rules/commands.yaml) and centres
@@ -273,6 +275,35 @@ def rearrange(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
     return p
 
 
+def twins(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
+    """Blocks that look alike where it matters: a base carried with a rider as wide as
+    it (or wider) across one side, or a row of equal small blocks about a block apart.
+    The jaws must close on the base, across the side the rider does not reach past
+    (helper round 14, v48p, v48v, v48y); a hand coming down beside its target in the
+    row is nearly as near the neighbour (round 14, AC: 20 mm cubes 40 mm apart)."""
+    if rng.random() < 0.5:
+        return _carry(Piece("carry"), rng, tag)
+    s = _ri(rng, 10, 20)
+    p = Piece("spaced-row")
+    _row(p, rng, f"{tag}-s", _ri(rng, 2, 3), ("small", (s, s, s)), (max(s, 15), 30))
+    return p
+
+
+def _carry(p: Piece, rng: np.random.Generator, tag: str) -> Piece:
+    """A base moved with its rider on it: an equal cube, or a 30 x 40 block under a
+    40 x 30 one."""
+    base, rider = f"{tag}-base", f"{tag}-rider"
+    if rng.random() < 0.5:
+        p.add(base, "cube", CUBE)
+        p.add(rider, "cube", CUBE)
+    else:
+        p.add(base, "post", (30, 40, _ri(rng, 30, 40)))
+        p.add(rider, "lid", (40, 30, _ri(rng, 15, 20)))
+    p.starts_on[rider] = base
+    p.put(base, "table", (0, 0))
+    return p
+
+
 def _unbridge(p: Piece, rng: np.random.Generator, tag: str) -> Piece:
     """A deck that starts across two piers (in both layouts) is set down on the table, and
     one pier is stood on it: the piers are hidden under the deck from above, and the hand
@@ -310,5 +341,5 @@ FAMILY_BUILDERS: dict[str, tuple[tuple[Builder, ...], bool]] = {
     "pillars": ((pillars,), True), "beams": ((beams,), True),
     "bridge": ((bridge,), True), "three-supports": ((three_supports,), True),
     "stairs": ((stairs,), True), "stacked-start": ((axis,), True),
-    "rearrange": ((rearrange,), False),
+    "rearrange": ((rearrange,), False), "twins": ((twins,), True),
 }
