@@ -60,3 +60,19 @@ def test_a_post_under_a_lid_across_it_is_found(noise):
     assert sorted(f.shape for f in found) == ["lid", "post"], \
         [(f.shape, f.position, f.size) for f in found]
     _each_near(found, truth, 5.0)
+
+
+@pytest.mark.parametrize("at", [(-150, 200), (100, 300), (0, 100)])
+@pytest.mark.parametrize("noise", [0.0, 2.0])
+def test_a_stack_of_three_narrowing_blocks_is_three(at, noise):
+    """Round 15, 09: 40, 30 and 20 mm wide blocks, 30 mm high each, stacked. The 20 mm
+    top's face claims the side view's top face at 0.95; the 30 mm ring's outline (0.61)
+    took it for 14 fewer wrong pixels, the top was read 57 mm up and the stack as 40 +
+    30 + 30. A side face is reopened only to claims within AMBIGUOUS of its holder's."""
+    shapes = {"s40": (40, 40, 30), "s30": (30, 30, 30), "s20": (20, 20, 30)}
+    truth = [_box(*at, 15.0 + 30.0 * k, shapes[name]) for k, name in
+             enumerate(("s40", "s30", "s20"))]
+    found = _find(truth, shapes, noise=noise, seed=1509)
+    assert sorted(f.shape for f in found) == ["s20", "s30", "s40"], \
+        [(f.shape, f.position, f.size) for f in found]
+    _each_near(found, truth, 5.0)

@@ -50,8 +50,13 @@ def assign(cands: Sequence[Sequence[Candidate]], cost: Callable[[dict[int, tuple
     silhouettes get wrong. Each pass tries every face's other candidates that
     fit the side view nearly as well as its best one (the faces they displace
     take their best remaining claim) and keeps the best improvement as a fixed
-    choice. Only near-ties are reopened: the silhouettes of boxes standing on
-    the table are a coarse model where blocks hide each other.
+    choice. Only near-ties are reopened (a face's candidates within AMBIGUOUS of
+    its best, on side faces no other face holds by a claim clearly better): the
+    silhouettes of boxes standing on the table are a coarse model where blocks
+    hide each other. On a stack of 40, 30 and 20 mm blocks the 30 mm ring's
+    outline (0.61) took the top face's side face from the 20 mm block's own face
+    (0.95) for 14 fewer wrong pixels, and the top block was read as a ring's
+    piece (helper round 15, 09).
 
     Where two pairings draw the views alike (within MIN_GAIN_PX), ``doubtful``
     (the number of its columns no shape or stack of shapes is as high) decides:
@@ -61,9 +66,14 @@ def assign(cands: Sequence[Sequence[Candidate]], cost: Callable[[dict[int, tuple
     forced: dict[int, Candidate] = {}
     best = greedy(cands, forced)
     labels = [lab for cs in cands for _, _, lab in cs]
-    single = all(len(cs) < 2 for cs in cands)  # faces compete only for side faces then
-    if single and len(set(labels)) == len(labels):
+    if all(len(cs) < 2 for cs in cands) and len(set(labels)) == len(labels):
         return best
+
+    def held(pairing: dict[int, tuple[float, float]], but: int) -> dict[int, float]:
+        """Side face -> the score of the claim on it that ``pairing`` took (but face's)."""
+        return {lab: sc for j, (h, s) in pairing.items() if j != but
+                for sc, hh, lab in cands[j] if (hh, sc) == (h, s)}
+
     best_cost = cost(best)
     best_doubt = doubtful(best) if doubtful else 0
     for _ in range(passes):
@@ -74,8 +84,7 @@ def assign(cands: Sequence[Sequence[Candidate]], cost: Callable[[dict[int, tuple
             for c in cs:
                 if c[0] < cs[0][0] - AMBIGUOUS or best.get(k, (None,))[0] == c[1]:
                     continue
-                if single and any(cands[j][0][2] == c[2] and c[0] < cands[j][0][0] - AMBIGUOUS
-                                  for j in best):
+                if c[0] < held(best, k).get(c[2], 0.0) - AMBIGUOUS:
                     continue  # another face holds that side face by a clear margin
                 trial = greedy(cands, {**forced, k: c})
                 tc = cost(trial)
