@@ -169,6 +169,8 @@ def _check_plot_shape(plot: Any, fail, where: str) -> None:
         if len(plot) != 2 or not isinstance(plot[1], str):
             raise fail("an action plot is [\"$action\", NAME]", where)
         return
+    if len(plot) < 2:
+        raise fail(f"a {plot[0]} plot holds at least one PLOT (rules/plot.lark: plot+)", where)
     for i, sub in enumerate(plot[1:], 1):
         _check_plot_shape(sub, fail, f"{where}[{i}]")
 
@@ -191,8 +193,9 @@ def _check_plot_refs(root: str, ops: dict[str, Operator], leaves: dict[str, str]
                 cycle = " → ".join([*path[path.index(leaf):], leaf])
                 raise fail(f"operator {shorten(leaf)} contains itself ({clip(cycle, 120)})",
                            f"operators.{clip(name)}.plot")
-            if leaf in done:
-                continue
+            if leaf in done:  # a plan is a tree: each operator has one place in it
+                raise fail(f"operator {shorten(leaf)} is in the plots twice",
+                           f"operators.{clip(name)}.plot")
             if len(path) >= MAX_NESTING:
                 raise fail(f"operators nest more than {MAX_NESTING} deep",
                            f"operators.{clip(name)}.plot")

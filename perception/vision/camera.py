@@ -114,7 +114,9 @@ class Camera:
     def box_region(
         self, lo: Sequence[float], hi: Sequence[float], margin: int = 0
     ) -> tuple[int, int, int, int]:
-        """Bounding pixel rectangle (x0, y0, x1, y1), clipped, of the 3-D box [lo, hi]."""
+        """Bounding pixel rectangle (x0, y0, x1, y1), clipped, of the 3-D box [lo, hi]; a box
+        outside the image gives a one-pixel rectangle on its nearest edge, never an
+        inverted one (a region the robot's watch searched beside the table: round 15)."""
         lo, hi = np.asarray(lo, float), np.asarray(hi, float)
         corners = np.array([[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1])
                             for c in (lo[2], hi[2])])
@@ -122,7 +124,8 @@ class Camera:
         x0, y0 = np.floor(uv.min(axis=0)).astype(int) - margin
         x1, y1 = np.ceil(uv.max(axis=0)).astype(int) + 1 + margin
         w, h = self.size
-        return max(0, x0), max(0, y0), min(w, x1), min(h, y1)
+        x0, y0 = min(max(0, x0), w - 1), min(max(0, y0), h - 1)
+        return x0, y0, max(min(w, x1), x0 + 1), max(min(h, y1), y0 + 1)
 
 
 def triangulate(cam_a: Camera, uv_a: Sequence[float], cam_b: Camera, uv_b: Sequence[float]

@@ -125,8 +125,19 @@ def test_unknown_operation_is_bad_input():
                                            "sc_plus": [["on", "b"]]}}}, "a relation is"),
         ({"root": "a", "operators": {"a": {"class": "PUT", "plot": ["$action", "Bad"]}}},
          "neither an operator"),
+        # round 15 (cli/j): an empty plot did nothing and the run "verified"; an ACHIEVE
+        # named twice was done twice
+        ({"root": "a", "operators": {"a": {"class": "BUILD", "plot": ["$sequence"]}}},
+         "at least one PLOT"),
+        ({"root": "a", "operators": {"a": {"class": "BUILD", "plot": [
+            "$parallel", ["$action", "b"], ["$sequence"]]},
+            "b": {"class": "PUT", "plot": ["$action", "place01"]}}}, "at least one PLOT"),
+        ({"root": "a", "operators": {"a": {"class": "BUILD", "plot": [
+            "$sequence", ["$action", "b"], ["$action", "b"]]},
+            "b": {"class": "PUT", "plot": ["$action", "place01"]}}}, "in the plots twice"),
     ],
-    ids=["no-root", "unknown-root", "bad-plot", "cycle", "bad-relation", "bad-leaf"],
+    ids=["no-root", "unknown-root", "bad-plot", "cycle", "bad-relation", "bad-leaf",
+         "empty-plot", "empty-inner-plot", "operator-twice"],
 )
 def test_bad_plans_are_input_errors(doc, needle):
     with pytest.raises(InputError) as exc:

@@ -63,3 +63,17 @@ def test_triangulation_of_a_rendered_small_cube_within_2mm(center):
     xyz = triangulate(CAMS["top"], _centroid(imgs["top"]), CAMS["side"],
                       _centroid(imgs["side"]))
     assert np.linalg.norm(xyz - np.array(center)) < 2.0
+
+
+@pytest.mark.parametrize("name", ["top", "side"])
+@pytest.mark.parametrize("lo,hi", [((-900, 200, 0), (-850, 250, 45)),  # beside the table
+                                   ((0, 200, 900), (50, 250, 950)),  # far above it
+                                   ((0, 2000, 0), (50, 2050, 45))],  # far behind it
+                         ids=["beside", "above", "behind"])
+def test_a_box_outside_the_image_gives_a_one_pixel_rectangle_on_its_edge(name, lo, hi):
+    """Round 15 (cli/j, a plan.json whose ACHIEVEs run in reverse): the robot's watch
+    searched a region off the image; its window came out inverted and crashed the run."""
+    cam = default_cameras()[name]
+    x0, y0, x1, y1 = cam.box_region(lo, hi, margin=1)
+    w, h = cam.size
+    assert 0 <= x0 < x1 <= w and 0 <= y0 < y1 <= h
