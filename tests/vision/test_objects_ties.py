@@ -76,3 +76,19 @@ def test_a_stack_of_three_narrowing_blocks_is_three(at, noise):
     assert sorted(f.shape for f in found) == ["s20", "s30", "s40"], \
         [(f.shape, f.position, f.size) for f in found]
     _each_near(found, truth, 5.0)
+
+
+@pytest.mark.parametrize("n,size,at", [
+    (5, (30, 30, 30), (-150, 200)), (5, (30, 30, 30), (100, 300)),
+    (6, (30, 30, 30), (-150, 200)), (6, (30, 30, 30), (100, 100)),
+    (5, (30, 30, 59), (-150, 200)), (4, (40, 40, 40), (0, 200)),
+], ids=lambda v: str(v))
+def test_a_tall_stack_of_equal_blocks_is_each_block(n, size, at):
+    """Round 15, AJ (v64a-d, v64l): five or six equal blocks stacked were one column.
+    Below the top block the rest's width was read halfway, at three quarters and at a
+    quarter up: for a rest of four blocks every one of those rows is a seam, whose crease
+    cuts the front face's run short. Eighths are read too."""
+    truth = [_box(*at, size[2] * (k + 0.5), size) for k in range(n)]
+    found = _find(truth, {"block": size}, seed=6404)
+    assert len(found) == n, [(f.shape, f.position, f.size) for f in found]
+    _each_near(found, truth, 5.0)

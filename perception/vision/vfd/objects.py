@@ -268,8 +268,9 @@ class ObjectFinder(VFD):
             # 2x. A ring may be the sliver of a middle block's (bench 3119 at 4x).
             # A row within a pixel of a seam is cut short by its crease (the 40 mm block
             # on a 30 mm one under a 50 mm top read 21 mm: round 13, 07): rows clear of
-            # creases first.
-            zs = [base + f * rest for f in (0.5, 0.75, 0.25)]
+            # creases first; eighths too, for a rest of four (a five-high stack of equal
+            # cubes has a seam at each quarter: round 15, v64d).
+            zs = [base + f * rest for f in (0.5, 0.75, 0.25, 0.375, 0.625, 0.125, 0.875)]
             zs.sort(key=lambda z: rims.crease_at(cam, side, (cx, front, z)))
             run = next((r for z in zs if (r := rims.width_at(cam, side, (cx, front, z)))
                         is not None), None)
