@@ -173,6 +173,14 @@ def check_named_operations(rules: R.RuleSet) -> None:
                 f"the {what} names operation {word!r}, which the recognizer's operations.yaml "
                 f"does not define (known: {listing(sorted(rules.operations))})",
                 file=path, line=lines.get(word) or _line_naming(path, word))
+    # every operation a plan's leaves may name is one the robot can do (round 15: a rule
+    # set without the grasp's expansion passed the check and failed at instantiation)
+    for word in sorted(analysis.templates().words() - set(commands.operations)):
+        raise InputError(
+            f"operations: no expansion for {word!r}, which the templates "
+            f"({analysis.grammar_file.name}) put in plans (expanded: "
+            f"{listing(sorted(commands.operations))})",
+            file=Path(commands.file), line=_line_naming(Path(commands.file), "operations:"))
 
 
 def check_vocabulary(rules: R.RuleSet, vocabulary: dict[str, dict[str, frozenset]]) -> None:

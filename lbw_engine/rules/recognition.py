@@ -7,6 +7,7 @@ duplicate rows; checks that span files are in ``lbw_engine.rules.check``.
 
 from __future__ import annotations
 
+from itertools import product
 from pathlib import Path
 from typing import Any
 
@@ -199,8 +200,25 @@ def _operations(directory: Path, events, motions):
                     )
             label = reader.name(row, "label", "Table V row") if "label" in row else None
             out.append(R.ClassRow(motion, dict(when), operation, at, label))
+        _covered(motion, out, features, R.Where(reader.file, line_of(table, motion)))
         classification[motion] = tuple(out)
     return features, classification
+
+
+def _covered(motion: str, rows: list, features: dict, at: R.Where) -> None:
+    """Every motion of the class gets an operation: an Other row (no ``when``), or a row
+    for each combination of the values its rows ask about (round 15: a class of local
+    motions without its no-change row classified an unchanged snapshot as nothing)."""
+    if any(not r.when for r in rows):
+        return
+    asked = sorted({f for r in rows for f in r.when})
+    for combo in product(*(features[f].values for f in asked)):
+        case = dict(zip(asked, combo, strict=True))
+        if not any(all(case[f] == v for f, v in r.when.items()) for r in rows):
+            shown = ", ".join(f"{f}: {str(v).lower() if isinstance(v, bool) else v}"
+                              for f, v in case.items())
+            raise at.error(f"no {motion} row matches {{{shown}}}: add one, or an Other row "
+                           "(a row without 'when')")
 
 
 def _answers(reader: Reader, spec: dict, name: str) -> dict[Any, Any]:

@@ -186,6 +186,24 @@ BROKEN = [
         "search-cycle-limit",
         "expected a number in [1, 20]",
     ),
+    # round 15: both passed the check and failed at run time (exit 1)
+    (
+        "table-v-value-without-a-row",
+        "operations.yaml",
+        '    - {when: {sil-diff: no-change}, operation: NO-OP, label: "no"}'
+        '   # "no01" in Fig. 12\n',
+        "",
+        "LocalMotion:",
+        "no LocalMotion row matches {sil-diff: no-change",
+    ),
+    (
+        "planned-operation-without-expansion",
+        "commands.yaml",
+        "  PICK:           {goal: [object], steps: [[PICK, goal]], check-jaws: true}\n",
+        "",
+        "operations:",
+        "no expansion for 'PICK'",
+    ),
 ]
 
 
