@@ -348,6 +348,8 @@ def run(args: argparse.Namespace) -> int:
     if args.faults:  # faults are about the robot's repairs: on the classic structures unless asked
         families = families or ("classic",)
     rules = str(Path(args.rules).resolve()) if args.rules else None  # workers may start elsewhere
+    # bad rules are bad input here, once, not a crash record per scenario (round 15, AO)
+    _rules(rules)
     if args.scenarios:
         from perception.world.generator import generate
 

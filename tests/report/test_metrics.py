@@ -154,6 +154,24 @@ def test_lbw_bench_rejects_bad_files_before_running(tmp_path, capsys, argv, mess
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("faults", [[], ["--faults"]], ids=["bench", "faults"])
+def test_lbw_bench_rejects_bad_rules_before_running(tmp_path, capsys, faults):
+    """Round 15 (AO): every scenario's record said "crashed: InputError" and the bench
+    exited 0; the rules are loaded once, first."""
+    import shutil
+
+    from lbw_engine.paths import default_rules_dir
+
+    rules = tmp_path / "rules"
+    shutil.copytree(default_rules_dir(), rules)
+    (rules / "constants.yaml").write_text("search-cycle-limit: [4\n")
+    out = tmp_path / "b.json"
+    assert main(["bench", "--count", "1", "--jobs", "1", "--rules", str(rules),
+                 "--out", str(out), *faults]) == 2
+    assert "constants.yaml:" in capsys.readouterr().err
+    assert not out.exists()
+
+
 def test_lbw_bench_rejects_bad_counts(capsys):
     assert main(["bench", "--count", "0"]) == 2
     assert "--count" in capsys.readouterr().err
