@@ -317,17 +317,20 @@ def _rect(cam: Any, center: Any, size: Any) -> tuple[int, int, int, int]:
 
 
 def _upright(names: set[str], seen: Look, eyes: Eyes) -> None:
-    """A block seen from above with another footprint than its shape's lies on a side (it
+    """A block measured with its shape's extents in another order lies on a side (it
     fell); so does a wrong or vanished block when an unnamed one has its extents in another
     order. The robot's grasps keep a block's orientation: it cannot stand it up again.
     Heights are compared only for a block standing on the table, whose bottom is the
-    table's: elsewhere the finder's bottoms are weak (see objects_posed.py)."""
+    table's: elsewhere the finder's bottoms are weak (see objects_posed.py). A block
+    turned part way (leaning) counts too. A footprint that is no orientation of the shape,
+    upright, turned or lying, is a misreading, not a fall: a cube read 85 x 30 x 46 with
+    its neighbour and a plank's end, or 39 x 24 x 42, was said to lie on its side and a
+    repairable run ended (helper round 15, AL; fault bench 9001)."""
     for name in sorted(names):
         want = eyes.shapes[eyes.shape_of[name]]
         st = seen.states.get(name)
-        lying = [st.size] if st is not None and (max(
-            abs(st.size[k] - want[k]) for k in (0, 1)) > TOPPLED_MM or _tipped(
-                st.position, st.size, want)) else []
+        lying = [st.size] if st is not None and (_on_side(st.size, want) or _tilted(
+            st.size, want) or _tipped(st.position, st.size, want)) else []
         if st is None:
             lying = [m.size for i, m in enumerate(seen.measured) if i in seen.spares
                      and (_on_side(m.size, want) or _tipped(m.position, m.size, want))]
@@ -342,6 +345,22 @@ def _on_side(size: Any, want: Any) -> bool:
     return same and max(abs(size[k] - want[k]) for k in (0, 1)) > TOPPLED_MM
 
 
+def _tilted(size: Any, want: Any) -> bool:
+    """Extents of the shape turned by more than 0.2 rad in the x-z plane (as pymunk turns
+    blocks): its y extent kept, x and z those of a turned L x H rectangle (a plank leaning
+    on a pillar, seen 139 x 32 x 80 for 160 x 30 x 15)."""
+    if abs(size[1] - want[1]) > TOPPLED_MM:
+        return False
+    length, height = want[0], want[2]
+    upright = abs(size[0] - length) + abs(size[2] - height)
+    for a in (0.2 + k * (math.pi / 2 - 0.2) / 40 for k in range(41)):
+        dx = abs(size[0] - (length * math.cos(a) + height * math.sin(a)))
+        dz = abs(size[2] - (length * math.sin(a) + height * math.cos(a)))
+        if max(dx, dz) <= TOPPLED_MM and dx + dz + TIPPED_MM < upright:
+            return True
+    return False
+
+
 def _tipped(position: Any, size: Any, want: Any) -> bool:
     """A block on the table whose three extents are its shape's with another axis upright,
     clearly better than upright (helper round 5, t35: a 20 x 70 x 30 block on its side,
@@ -349,9 +368,12 @@ def _tipped(position: Any, size: Any, want: Any) -> bool:
     if position[2] - size[2] / 2.0 > ON_TABLE_MM or abs(size[2] - want[2]) <= TIPPED_MM:
         return False
     upright = sum(abs(a - b) for a, b in zip(size, want, strict=True))
-    lying = min((sum(abs(a - b) for a, b in zip(size, p, strict=True))
-                 for p in permutations(want) if p[2] != want[2]), default=math.inf)
-    return lying + TIPPED_MM < upright  # a cube has no other axis up: never
+    lying, worst = min(((sum(d), max(d)) for p in permutations(want) if p[2] != want[2]
+                        for d in [[abs(a - b) for a, b in zip(size, p, strict=True)]]),
+                       default=(math.inf, math.inf))
+    # and the lying reading must fit on each axis: a plank read 42 x 30 x 46 (three
+    # blocks' columns merged) fits lying "better" than upright, and fits neither (AL)
+    return lying + TIPPED_MM < upright and worst <= TOPPLED_MM  # a cube: never
 
 
 def _dims(size: Any) -> str:

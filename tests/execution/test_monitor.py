@@ -306,14 +306,38 @@ def test_a_small_block_set_down_by_the_robot_is_seen_placed(tmp_path, capsys, na
     ((0, 200, 20.5), (41, 39, 41), (40, 40, 40), False),  # ... whatever the noise
     ((0, 200, 15.0), (40, 40, 30), (40, 40, 40), False),  # ... or its height read
     ((0, 200, 49.6), (31, 68, 19), (20, 70, 30), False),  # not on the table: heights weak
+    # round 15, AL: a plank read 42 x 30 x 46 (columns merged) fits lying a little less
+    # badly than upright, and fits neither
+    ((0, 200, 23.0), (42, 30, 46), (160, 30, 15), False),
 ], ids=["oblong-on-its-side", "oblong-upright", "cube", "cube-noisy", "cube-read-low",
-        "off-the-table"])
+        "off-the-table", "a-misreading-fits-no-orientation"])
 def test_which_blocks_on_the_table_have_tipped(position, size, want, tipped):
     """monitor._tipped: fault bench 5004, 5007, 7005 and 7008 crashed on a cube, whose
     shape has no other axis that could be up (an empty min)."""
     from lbw_engine.pipeline.monitor import _tipped
 
     assert _tipped(position, size, want) is tipped
+
+
+@pytest.mark.parametrize(("size", "want", "tilted"), [
+    ((139, 32, 80), (160, 30, 15), True),  # a plank leaning on a pillar (round 15, 44)
+    ((56, 40, 56), (40, 40, 40), True),  # a cube turned 45 degrees
+    ((30, 70, 20), (20, 70, 30), True),  # turned a quarter: on its side
+    ((40, 40, 40), (40, 40, 40), False),  # upright
+    ((22, 70, 30.5), (20, 70, 30), False),  # upright, measured a bit off
+    ((85, 30, 46), (30, 30, 30), False),  # round 15, 55: a cube merged with its neighbour
+    ((39, 24, 42), (40, 40, 40), False),  # fault bench 9001: a cube misread
+    ((21, 21, 31), (20, 60, 20), False),  # round 15, 5e: a 20 x 60 brick misread
+    ((42, 30, 46), (160, 30, 15), False),  # round 15, 55: a plank's columns merged
+], ids=["plank-leaning", "cube-45", "oblong-on-its-side", "cube-upright", "oblong-upright",
+        "cube-merged", "cube-misread", "brick-misread", "plank-merged"])
+def test_which_readings_are_a_block_turned_over(size, want, tilted):
+    """monitor._upright stops a run for a block that fell over: its extents must be its
+    shape's turned in the x-z plane (or in another order), not any other footprint (round
+    15, AL: a misread cube was said to lie on its side and a repairable run ended)."""
+    from lbw_engine.pipeline.monitor import _on_side, _tilted
+
+    assert (_tilted(size, want) or _on_side(size, want)) is tilted
 
 
 # (bench seed, level, family, detections at most, what the robot watch missed)
