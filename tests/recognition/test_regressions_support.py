@@ -51,3 +51,13 @@ def test_a_small_cube_over_a_tower_waits_for_the_tower():
     sc, rec, actions = watch_generated(1157, "2x", family="small")
     assert_sequence(sc, actions)
     assert_supports(sc, rec)
+
+
+def test_an_empty_hand_that_came_to_no_block_gets_an_operation():
+    """Generated stacked-start 1266 at 4x (stop 32): the search named the table at an empty
+    hand's :Near, so the change-detector had no block region to watch; its comparison gave
+    nothing, the local motion matched no Table V row, and analysis stopped on an operation
+    of None. Nothing the hand could take or set down was in sight: no change."""
+    _, _, actions = watch_generated(1266, "4x", family="stacked-start")
+    assert all(op["operation"] is not None for op in actions["operations"]), \
+        [op["name"] for op in actions["operations"] if op["operation"] is None]

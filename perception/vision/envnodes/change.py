@@ -159,8 +159,13 @@ class ChangeNode(EnvNodeBase):
 
     def compare(self, first: Any, last: Any, act: ActView, env: EnvModel) -> Detection | None:
         """Appeared / disappeared / no-change, and where (for a place: the release point)."""
-        if not first or self.sight.frame is None:
+        if self.sight.frame is None:
             return None
+        if not first:
+            # no region to watch: an empty hand came to no block (the search named the
+            # table) and left. Nothing it could take or set down was in sight: no change
+            # (generated stacked-start 1266 at 4x: the motion had no operation at all)
+            return Detection(value=NO_CHANGE) if not act.special else None
         det, shot = self.detector, first["shot"]
         place = bool(first.get("place"))
         load = self.hand.held_box(env) if place else None  # the held block under the hand
