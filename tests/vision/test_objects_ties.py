@@ -99,9 +99,9 @@ def test_a_cube_on_a_block_is_two_whatever_the_tie_break(seed):
     """Generated rearrange 1073 at 2x (stop 32): once the tile is taken off a tile-cube-
     block stack, the cube's face (0.73) and the block's outline (0.66) claim the side
     view's top face; the cube's column read 87.9 mm, 2.1 mm off cube + block, counted as
-    explained by no stack and lost the tie: one cube on the table was read, and the
-    monitor reported a fault-free run's cube moved. A stack explains a column within
-    half STACK_MISMATCH_MM."""
+    explained by no stack, and the outline's pairing, 12 pixels worse, won the tie: one
+    cube on the table was read, and the monitor reported a fault-free run's cube moved.
+    The shapes break ties only between pairings that draw the views no worse."""
     shapes = {"block": (50, 50, 50), "cube": (40, 40, 40), "tile": (30, 30, 20)}
     truth = [_box(89, 296, 25, shapes["block"]), _box(89, 296, 70, shapes["cube"])]
     found = _find(truth, shapes, noise=4.0, seed=seed)

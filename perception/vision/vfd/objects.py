@@ -113,11 +113,10 @@ class ObjectFinder(VFD):
                                                DARK_MAX, "side": solid})
 
         def doubtful(pairing: dict[int, tuple[float, float]]) -> int:
-            """Paired columns as high as no shape and no stack of shapes (within half
-            STACK_MISMATCH_MM: a cube on a block read 87.9 mm high is one, bench 1073)."""
-            return sum(misfit(faces[k], h) >= STACK_MISMATCH_MM and not self.columns.stacked(
-                faces[k], h, shapes, STACK_MISMATCH_MM / 2) for k, (h, sc) in pairing.items()
-                if sc >= MIN_SCORE)
+            """Paired columns as high as no shape and no stack of shapes."""
+            return sum(misfit(faces[k], h) >= STACK_MISMATCH_MM and not
+                       self.columns.stacked(faces[k], h, shapes)
+                       for k, (h, sc) in pairing.items() if sc >= MIN_SCORE)
 
         pairing = assign(cands, cost, doubtful)
         boxes = []

@@ -134,17 +134,17 @@ class Columns:
         (h, whole), = fits
         return (h, whole) if self.solid_fraction(whole, h, solid) >= HIDDEN else None
 
-    def stacked(self, rect, h: float, shapes: Mapping[str, tuple],
-                tol: float = STACK_SUM_MM) -> bool:
+    def stacked(self, rect, h: float, shapes: Mapping[str, tuple]) -> bool:
         """Whether a column ``h`` high under this face could be two or three blocks: a
         shape whose footprint the face is at ``h`` on one or two others, their heights
-        summing to ``h`` within ``tol``."""
+        summing to ``h`` within STACK_SUM_MM."""
         extent = self.footprint(rect, h)
         tops = [s[2] for s in shapes.values() if any(  # the face is its footprint as seen
             _completed(rect, extent, size, []) is not None
             for size in ((s[0], s[1]), (s[1], s[0])))]
         zs = [s[2] for s in shapes.values()]
-        return any(abs(t + u - h) <= tol or any(abs(t + u + v - h) <= tol for v in zs)
+        return any(abs(t + u - h) <= STACK_SUM_MM or any(abs(t + u + v - h) <= STACK_SUM_MM
+                                                         for v in zs)
                    for t in tops for u in zs)
 
     def solid_fraction(self, rect, h: float, solid: np.ndarray, z0: float = 0.0) -> float:
