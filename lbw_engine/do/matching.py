@@ -116,16 +116,21 @@ def match_initial_state(
         if name not in assigned and i in pool[taught[name]["shape"]]:
             assigned[name] = i
             pool[taught[name]["shape"]].remove(i)
-    for up, down in stacked:
+    # bottom pairs first, and a pair's lower block the measured one as many blocks up as
+    # the taught one: three equal cubes taught stacked went in upside down (review)
+    depth = _depths(stacked)
+    level = _levels(measured)
+    for up, down in sorted(stacked, key=lambda p: depth.get(p[1], 0)):
         if up not in relevant or down not in relevant or up not in taught or \
                 down not in taught:
             continue
         ups = [assigned[up]] if up in assigned else pool.get(taught[up]["shape"], [])
         downs = [assigned[down]] if down in assigned else pool.get(taught[down]["shape"], [])
-        pair = next(((i, j) for j in downs for i in ups if i != j
-                     and _lies_on(measured[i], measured[j])), None)
-        if pair is None:
+        pairs = [(i, j) for j in downs for i in ups if i != j
+                 and _lies_on(measured[i], measured[j])]
+        if not pairs:
             continue
+        pair = min(pairs, key=lambda p: abs(level[p[1]] - depth.get(down, 0)))
         for name, i in zip((up, down), pair, strict=True):
             if name not in assigned:
                 assigned[name] = i
@@ -155,6 +160,32 @@ def match_initial_state(
         assigned=assigned,
         unmatched=[i for i in range(len(measured)) if i not in used],
     )
+
+
+def _depths(stacked: Sequence[tuple[str, str]]) -> dict[str, int]:
+    """Taught objects -> how many blocks of the pairs lie under them (0: the lowest)."""
+    under = {up: down for up, down in stacked}
+    out: dict[str, int] = {}
+    for name in {n for p in stacked for n in p}:
+        k, seen = name, {name}
+        while k in under and under[k] not in seen:
+            k = under[k]
+            seen.add(k)
+        out[name] = len(seen) - 1
+    return out
+
+
+def _levels(measured: Sequence[Measured]) -> list[int]:
+    """Measured objects -> how many measured blocks lie under them, one on another."""
+    out = []
+    for i in range(len(measured)):
+        k, seen = i, {i}
+        while (j := next((j for j, m in enumerate(measured) if j not in seen
+                          and _lies_on(measured[k], m)), None)) is not None:
+            k = j
+            seen.add(j)
+        out.append(len(seen) - 1)
+    return out
 
 
 def _lies_on(b: Measured, a: Measured) -> bool:

@@ -346,14 +346,16 @@ def _on_side(size: Any, want: Any) -> bool:
 
 
 def _tilted(size: Any, want: Any) -> bool:
-    """Extents of the shape turned by more than 0.2 rad in the x-z plane (as pymunk turns
+    """Extents of the shape turned part way over in the x-z plane (as pymunk turns
     blocks): its y extent kept, x and z those of a turned L x H rectangle (a plank leaning
     on a pillar, seen 139 x 32 x 80 for 160 x 30 x 15)."""
     if abs(size[1] - want[1]) > TOPPLED_MM:
         return False
     length, height = want[0], want[2]
     upright = abs(size[0] - length) + abs(size[2] - height)
-    for a in (0.2 + k * (math.pi / 2 - 0.2) / 40 for k in range(41)):
+    # half a radian or more from upright and from lying (``_on_side``): a block turned
+    # less reads within a misreading of either (a cube read 45 x 40 x 47 fitted 0.2 rad)
+    for a in (0.5 + k * (math.pi / 2 - 1.0) / 20 for k in range(21)):
         dx = abs(size[0] - (length * math.cos(a) + height * math.sin(a)))
         dz = abs(size[2] - (length * math.sin(a) + height * math.cos(a)))
         if max(dx, dz) <= TOPPLED_MM and dx + dz + TIPPED_MM < upright:

@@ -95,3 +95,16 @@ STACKS = [  # measured: a cube on a block, a cube on a cube (generated twins 310
 def test_objects_taught_one_on_another_take_a_measured_pair(relevant, stacked, want):
     taught = {n: {"shape": "cube"} for n in relevant}
     assert match_initial_state(taught, relevant, STACKS, stacked=stacked).assigned == want
+
+
+@pytest.mark.parametrize("order", [[0, 1, 2], [2, 1, 0], [1, 2, 0]], ids=str)
+def test_three_equal_blocks_taught_stacked_keep_their_order(order):
+    """Review of stop 32: c1 on c2 on c3, three equal cubes, measured bottom first: the
+    pairs taken in name order gave the taught top the middle cube and the taught bottom
+    the top one. Pairs go bottom first, each lower block as many blocks up as taught."""
+    tower = [Measured("cube", (0.0, 200.0, 15.0 + 30.0 * k), (30.0, 30.0, 30.0)) for k in range(3)]
+    measured = [tower[k] for k in order]
+    taught = {n: {"shape": "cube"} for n in ("c1", "c2", "c3")}
+    got = match_initial_state(taught, ["c1", "c2", "c3"], measured,
+                              stacked=[("c1", "c2"), ("c2", "c3")]).assigned
+    assert {n: order[i] for n, i in got.items()} == {"c3": 0, "c2": 1, "c1": 2}

@@ -322,19 +322,23 @@ def test_which_blocks_on_the_table_have_tipped(position, size, want, tipped):
 @pytest.mark.parametrize(("size", "want", "tilted"), [
     ((139, 32, 80), (160, 30, 15), True),  # a plank leaning on a pillar (round 15, 44)
     ((56, 40, 56), (40, 40, 40), True),  # a cube turned 45 degrees
-    ((30, 70, 20), (20, 70, 30), True),  # turned a quarter: on its side
     ((40, 40, 40), (40, 40, 40), False),  # upright
+    ((45, 40, 47), (40, 40, 40), False),  # upright, read 5-7 mm large (review)
+    ((35, 30, 35), (30, 30, 30), False),  # ... 5 mm
+    ((66, 30, 52), (60, 30, 40), False),  # a brick read 12 mm tall
     ((22, 70, 30.5), (20, 70, 30), False),  # upright, measured a bit off
     ((85, 30, 46), (30, 30, 30), False),  # round 15, 55: a cube merged with its neighbour
     ((39, 24, 42), (40, 40, 40), False),  # fault bench 9001: a cube misread
     ((21, 21, 31), (20, 60, 20), False),  # round 15, 5e: a 20 x 60 brick misread
     ((42, 30, 46), (160, 30, 15), False),  # round 15, 55: a plank's columns merged
-], ids=["plank-leaning", "cube-45", "oblong-on-its-side", "cube-upright", "oblong-upright",
-        "cube-merged", "cube-misread", "brick-misread", "plank-merged"])
+], ids=["plank-leaning", "cube-45", "cube-upright", "cube-read-large", "small-cube-read-large",
+        "brick-read-tall", "oblong-upright", "cube-merged", "cube-misread", "brick-misread",
+        "plank-merged"])
 def test_which_readings_are_a_block_turned_over(size, want, tilted):
     """monitor._upright stops a run for a block that fell over: its extents must be its
-    shape's turned in the x-z plane (or in another order), not any other footprint (round
-    15, AL: a misread cube was said to lie on its side and a repairable run ended)."""
+    shape's turned part way in the x-z plane or in another order (a block on its side on
+    the table is also ``_tipped``'s), not any other footprint (round 15, AL: a misread
+    cube was said to lie on its side and a repairable run ended)."""
     from lbw_engine.pipeline.monitor import _on_side, _tilted
 
     assert (_tilted(size, want) or _on_side(size, want)) is tilted
