@@ -23,10 +23,12 @@ class _Eyes:
     def __init__(self, *zs: float) -> None:
         self.zs = list(zs)
         self.calls = 0
+        self.windows, self.last_images = [], None  # what the pictures draw of a look
 
     def look(self, expected):
         self.calls += 1
         z = self.zs.pop(0)
+        self.windows, self.last_images = [("top", self.calls)], {"look": self.calls}
         return Look({"c": ObjectState((0.0, 200.0, z), (30.0, 30.0, 30.0))}, [], [])
 
 
@@ -46,6 +48,7 @@ def test_a_difference_seen_twice_stands():
     seen, verdict = look_twice(eyes, EXPECTED, _check)
     assert not verdict.success and eyes.calls == 2
     assert seen.states["c"].position[2] == 45.0  # the first reading is kept
+    assert eyes.windows == [("top", 1)] and eyes.last_images == {"look": 1}  # and drawn
 
 
 def test_an_agreeing_look_is_taken_once():
