@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 
 from lbw_engine.rules import RULE_FILES, check_detectors, load_rules
+from lbw_engine.rules.check import check_expansions
 from lbw_engine.understand.plottext import check_grammar as check_plot_grammar
 
 HELP = "validate rule files (exit 2 with file:line on the first problem)"
@@ -30,6 +31,7 @@ def run(args: argparse.Namespace) -> int:
 
     rules = load_rules(args.rules_dir)
     check_detectors(rules, vocabulary())
+    check_expansions(rules)
     # plot.lark must read back what lbw writes to plan.txt (it compiled when loading)
     check_plot_grammar(rules.analysis.plot_grammar_file, rules.roles.multiple)
     commands = rules.commands

@@ -173,8 +173,13 @@ def check_named_operations(rules: R.RuleSet) -> None:
                 f"the {what} names operation {word!r}, which the recognizer's operations.yaml "
                 f"does not define (known: {listing(sorted(rules.operations))})",
                 file=path, line=lines.get(word) or _line_naming(path, word))
-    # every operation a plan's leaves may name is one the robot can do (round 15: a rule
-    # set without the grasp's expansion passed the check and failed at instantiation)
+
+
+def check_expansions(rules: R.RuleSet) -> None:
+    """Every operation the templates put in plans has an expansion in commands.yaml: the
+    robot can do any plan (``lbw check`` only: a rule set for analysis alone may leave it
+    out; round 15: a copy without the grasp's expansion failed at instantiation)."""
+    analysis, commands = rules.analysis, rules.commands
     for word in sorted(analysis.templates().words() - set(commands.operations)):
         raise InputError(
             f"operations: no expansion for {word!r}, which the templates "

@@ -282,7 +282,7 @@ def _scene_top(lay: Layout) -> float:
 class Demonstration:
     """Iterate ``(t, scene)`` per frame of a scenario's demonstration (physics between frames)."""
 
-    def __init__(self, scenario, fps: float = 30.0, substeps: int = 8) -> None:
+    def __init__(self, scenario, fps: float = 30.0, substeps: int = 4) -> None:
         """Plan the hand's motion and build the teaching world."""
         self.scenario, self.fps = scenario, float(fps)
         rng = np.random.default_rng(scenario.seed)

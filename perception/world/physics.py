@@ -45,7 +45,7 @@ def _depth(specs: dict, name: str) -> int:
 class World:
     """Blocks on a table, plus any grippers; step it with ``step(dt)``."""
 
-    def __init__(self, objects: Iterable, substeps: int = 8, iterations: int = 20) -> None:
+    def __init__(self, objects: Iterable, substeps: int = 4, iterations: int = 10) -> None:
         """Build the world from ObjectSpec records (a Workspace's ``objects.values()``)."""
         self.substeps = substeps
         self.time = 0.0

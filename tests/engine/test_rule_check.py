@@ -196,14 +196,6 @@ BROKEN = [
         "LocalMotion:",
         "no LocalMotion row matches {sil-diff: no-change",
     ),
-    (
-        "planned-operation-without-expansion",
-        "commands.yaml",
-        "  PICK:           {goal: [object], steps: [[PICK, goal]], check-jaws: true}\n",
-        "",
-        "operations:",
-        "no expansion for 'PICK'",
-    ),
 ]
 
 
@@ -260,3 +252,15 @@ def test_missing_rule_file(tmp_path, capsys):
 def test_missing_rules_folder(tmp_path, capsys):
     assert main(["check", str(tmp_path / "nowhere")]) == 2
     assert "rules folder not found" in capsys.readouterr().err
+
+
+def test_check_refuses_a_planned_operation_without_expansion(tmp_path, capsys):
+    """Round 15: a copy without PICK's commands.yaml entry passed `lbw check` and failed
+    at instantiation. `lbw check` refuses it (a copy for analysis alone still loads)."""
+    copy = broken_copy(tmp_path, "commands.yaml",
+                       "  PICK:           {goal: [object], steps: [[PICK, goal]], "
+                       "check-jaws: true}\n", "")
+    load_rules(copy)
+    assert main(["check", str(copy)]) == 2
+    err = capsys.readouterr().err
+    assert "commands.yaml:" in err and "no expansion for 'PICK'" in err

@@ -1,4 +1,4 @@
-"""Readings the monitor must not take for faults, and a drop it must repair (stop 32).
+"""Readings the monitor must not take for faults (stop 32).
 
 At pixel noise 8 one image in many misreads a stack; the monitor took that reading for
 the workspace, traced its repair from it and then failed the final verdict on a
@@ -69,16 +69,3 @@ def test_a_base_moved_with_its_rider_at_4x_is_done_and_verified(tmp_path, capsys
     assert report["initial_state"]["matching"]["a-base"][2] < 30  # the lower cube
     assert report["monitor"]["detections"] == []
 
-
-def test_a_plank_dropped_onto_a_bridge_is_put_back(tmp_path, capsys):
-    """Helper round 15, 44: the plank dropped on its way onto a bridge came to rest leaning
-    on the pillar (read 139 x 32 x 80), and the run ended, rightly, naming it. With the
-    world's finer solver (stop 32) it lands where the robot can take it again; the drop
-    must be seen and repaired, and the cameras must verify the bridge."""
-    out = tmp_path / "run"
-    assert main(["run", str(DATA / "plank-dropped-leaning.yaml"), "--out", str(out)]) == 0, \
-        capsys.readouterr().err
-    report = json.loads((out / "execution.json").read_text())
-    assert report["verification"] == {"cameras": True, "ground_truth": True}
-    assert [f["kind"] for f in report["faults"]] == ["drop"]
-    assert report["monitor"]["repairs"]
