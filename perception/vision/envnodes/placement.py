@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from lbw_engine.model.env import EnvModel, EnvNode
-from lbw_engine.model.geometry import footprints_meet
+from lbw_engine.model.geometry import footprints_meet, overlap
 from lbw_engine.names import TABLE
 from lbw_engine.see.detectors import ActView
 from perception.vision.camera import Camera
@@ -126,7 +126,7 @@ def placed_x(det: ChangeDetector, cameras: Mapping[str, Camera], changed: float,
     # a candidate whose box would go into a known block is no place a block can be: in a
     # 2 x 2 grid 7 mm apart the side view's change lay between two columns, 21 mm off,
     # 15 mm into the neighbour (generated gaps 1085 at 2x)
-    inside = [any(_into(Region3D.around((x, yz[0], yz[1]), size), o) for o in others)
+    inside = [any(overlap((x, *yz), size, o.center, o.size, tol=INTO_MM) for o in others)
               for x in (changed, released)]
     if inside[0] != inside[1]:
         return released if inside[0] else changed
@@ -141,11 +141,6 @@ def placed_x(det: ChangeDetector, cameras: Mapping[str, Camera], changed: float,
             seen += int((mask & (img >= BLOCK_MIN)).sum())
         fits.append(seen / total if total else 0.0)
     return released if fits[1] > fits[0] + FIT_MARGIN else changed
-
-
-def _into(a: Region3D, b: Region3D) -> bool:
-    """Whether boxes ``a`` and ``b`` overlap by more than INTO_MM on every axis."""
-    return all(min(a.hi[k], b.hi[k]) - max(a.lo[k], b.lo[k]) > INTO_MM for k in range(3))
 
 
 def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float],
