@@ -13,7 +13,7 @@ objects the plan never moves but needs in place go to the nearest one.
 from __future__ import annotations
 
 import math
-from collections.abc import Collection, Mapping, Sequence
+from collections.abc import Callable, Collection, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from lbw_engine.do.placement import taught_positions
@@ -118,8 +118,11 @@ def match_initial_state(
             pool[taught[name]["shape"]].remove(i)
     # bottom pairs first, and a pair's lower block the measured one as many blocks up as
     # the taught one: three equal cubes taught stacked went in upside down (review)
-    depth = _depths(stacked)
-    level = _levels(measured)
+    under = dict(stacked)
+    depth = {n: _below(n, lambda k, _: under.get(k)) for p in stacked for n in p}
+    level = [_below(i, lambda k, seen: next((j for j, m in enumerate(measured) if j not in seen
+                                             and _lies_on(measured[k], m)), None))
+             for i in range(len(measured))]
     for up, down in sorted(stacked, key=lambda p: depth.get(p[1], 0)):
         if up not in relevant or down not in relevant or up not in taught or \
                 down not in taught:
@@ -162,30 +165,15 @@ def match_initial_state(
     )
 
 
-def _depths(stacked: Sequence[tuple[str, str]]) -> dict[str, int]:
-    """Taught objects -> how many blocks of the pairs lie under them (0: the lowest)."""
-    under = {up: down for up, down in stacked}
-    out: dict[str, int] = {}
-    for name in {n for p in stacked for n in p}:
-        k, seen = name, {name}
-        while k in under and under[k] not in seen:
-            k = under[k]
-            seen.add(k)
-        out[name] = len(seen) - 1
-    return out
-
-
-def _levels(measured: Sequence[Measured]) -> list[int]:
-    """Measured objects -> how many measured blocks lie under them, one on another."""
-    out = []
-    for i in range(len(measured)):
-        k, seen = i, {i}
-        while (j := next((j for j, m in enumerate(measured) if j not in seen
-                          and _lies_on(measured[k], m)), None)) is not None:
-            k = j
-            seen.add(j)
-        out.append(len(seen) - 1)
-    return out
+def _below(start: Hashable, under: Callable[[Hashable, set], Hashable | None]) -> int:
+    """How many blocks lie under ``start``, following ``under(block, seen)`` (the block it
+    lies on, or None) down the stack; a cycle stops the count. Taught names and measured
+    indices alike."""
+    k, seen = start, {start}
+    while (j := under(k, seen)) is not None and j not in seen:
+        k = j
+        seen.add(j)
+    return len(seen) - 1
 
 
 def _lies_on(b: Measured, a: Measured) -> bool:
