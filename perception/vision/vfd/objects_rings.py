@@ -39,6 +39,8 @@ Box = tuple[float, tuple[float, float, float, float], tuple]  # (height, footpri
 
 STACK_XY_MM = 8.0  # a top face this close to a shape's footprint may be that shape's
 EDGE_MM = 1.5  # a rim edge counts as seen when it lies this far outside the cover
+# an outline this much wider than the block on it, rings on both sides, shows no ring
+UNSEEN_RINGS_MM = 2.0 * (RING_HIDDEN_MM + EDGE_MM)
 
 
 def find_rims(boxes: list[Box], sliver_px: float, thinnest: float = 0.0,
@@ -306,7 +308,7 @@ def inside_thin_ring(top: Sequence[float], outline: Sequence[float]) -> bool:
     lower block's (a cube on a block under a tile: three blocks, one face). Each
     measured edge may lie EDGE_MM out (bench 1106: a 50 mm block's outline under a
     cube, seen from the top camera's edge, measured 52.7 mm)."""
-    return all(0.0 <= o - t <= 2.0 * (RING_HIDDEN_MM + EDGE_MM)
+    return all(0.0 <= o - t <= UNSEEN_RINGS_MM
                for t, o in zip(top, outline, strict=False))
 
 
@@ -314,7 +316,7 @@ def thin_rings_only(cover: Sequence[float], lower: Sequence[float]) -> bool:
     """Whether a block of footprint ``lower`` can stand under one covering ``cover`` with
     what shows of its top, along each axis, no wider than a ring the top view cannot see
     (inside_thin_ring's bound); narrower along an axis hides it there."""
-    return all(lo - c <= 2.0 * (RING_HIDDEN_MM + EDGE_MM)
+    return all(lo - c <= UNSEEN_RINGS_MM
                for c, lo in zip(cover, lower, strict=False))
 
 
