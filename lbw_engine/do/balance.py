@@ -37,8 +37,10 @@ def unbalanced(model: EnvModel, margin: float) -> str | None:
 
 
 def steadied(model: EnvModel, name: str, xy: tuple[float, float], supports: list[str],
-             margin: float, steady: float) -> tuple[tuple[float, float], float]:
-    """Where ``name`` (held, its riders with it) can be put on ``supports`` near ``xy``.
+             margin: float, steady: float, coming: Sequence[tuple[float, float, float]] = ()
+             ) -> tuple[tuple[float, float], float]:
+    """Where ``name`` (held, its riders with it, and what the plan will still put on it:
+    ``coming``, x-y offsets from it and volumes) can be put on ``supports`` near ``xy``.
 
     Per axis: when the load's centre of mass at ``xy`` is within ``margin`` of
     the edge of where the object would meet its supports (or beyond it), the
@@ -50,10 +52,12 @@ def steadied(model: EnvModel, name: str, xy: tuple[float, float], supports: list
     if not under:
         return xy, 0.0
     b = model.bodies[name]
-    com = _load_centre(model, name)
+    com, mass = _load_centre(model, name), _volume(model, name, riders=True)
+    total = mass + sum(v for _, _, v in coming)
     out = list(xy)
     for k in range(2):
-        c = com[k] - b.position[k]  # relative to the object's centre: it moves with it
+        # relative to the object's centre: it moves with it
+        c = (mass * (com[k] - b.position[k]) + sum(v * d[k] for *d, v in coming)) / total
         half = b.size[k] / 2
         if not -half + margin <= c <= half - margin:
             continue  # off the object's own footprint: moving the object cannot help
@@ -99,7 +103,10 @@ def _over(name: str, under: list[str], model: EnvModel, margin: float) -> bool:
     return True
 
 
-def _volume(model: EnvModel, name: str) -> float:
-    """An object's volume (mm³), its mass up to the common density."""
+def _volume(model: EnvModel, name: str, riders: bool = False) -> float:
+    """An object's volume (mm³), its mass up to the common density (``riders``: with
+    everything riding on it)."""
+    if riders:
+        return sum(_volume(model, n) for n in [name, *model.supported_by(name)])
     s = model.bodies[name].size
     return s[0] * s[1] * s[2]

@@ -32,7 +32,7 @@ from lbw_engine.do.balance import unbalanced
 from lbw_engine.do.expander import Command, Context, Expander
 from lbw_engine.do.fine import Alignment, PlacePlan
 from lbw_engine.do.ordering import feasible_order
-from lbw_engine.do.placement import NOT_OBJECTS, mm, placement, taught_positions
+from lbw_engine.do.placement import NOT_OBJECTS, mm, placement, taught_positions, to_come
 from lbw_engine.do.plan import Operator, Plan, action_names
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import EnvModel
@@ -217,7 +217,7 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
             where: str, free: bool = True) -> TracedOp:
     """The goal, the grip (jaws.py, grasp.py) and the place's fine motion (fine.py)."""
     focus = focus_object(op, rules, model)
-    goal, moved = _first_goal(rule, op, focus, rules, model, plan.file, where)
+    goal, moved = _first_goal(rule, op, focus, rules, model, plan, where)
     if goal is None and rule.goal:
         # The rules name where the goal comes from, but this plan offers none of it
         # (e.g. a put whose placement was lost): the task cannot be done.
@@ -232,7 +232,7 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
             aside += setaside.clear_goal(plan, rules, model, expander, focus,
                                          _next_goal(plan, rules, model, op, leaf, focus), where)
             if any(name == focus for _, _, name, _ in aside):  # it was moved itself
-                goal, moved = _first_goal(rule, op, focus, rules, model, plan.file, where)
+                goal, moved = _first_goal(rule, op, focus, rules, model, plan, where)
                 ctx.goal = goal
         if model.holding() == focus:
             axis, off = model.grips.get(focus, (rules.jaw_axes[0], 0.0))
@@ -305,7 +305,7 @@ def _ahead(plan: Plan, rules: CommandRules, model: EnvModel, op: Operator, leaf:
         if nxt is None:
             return None
         try:
-            goal = _goal("placement", nxt, focus, rules, model, plan.file, "")[0]
+            goal = _goal("placement", nxt, focus, rules, model, plan, "")[0]
             return _place_plan(nxt, focus, goal, axis, off, rules, model), ""
         except TaskFailed as exc:
             return None, str(exc)
@@ -319,7 +319,7 @@ def _next_goal(plan: Plan, rules: CommandRules, model: EnvModel, op: Operator, l
     nxt = _next_place(plan, rules, op.name, leaf, focus)
     try:
         return None if nxt is None else \
-            _goal("placement", nxt, focus, rules, model, plan.file, "", check=False)[0]
+            _goal("placement", nxt, focus, rules, model, plan, "", check=False)[0]
     except TaskFailed:
         return None
 
@@ -360,17 +360,17 @@ def focus_object(op: Operator, rules: CommandRules, model: EnvModel) -> str | No
 
 
 def _first_goal(rule: OperationRule, op: Operator, focus: str | None, rules: CommandRules,
-                model: EnvModel, file: str, where: str) -> tuple[Vec | None, float]:
+                model: EnvModel, plan: Plan, where: str) -> tuple[Vec | None, float]:
     """The goal from the first of the rule's sources that gives one (commands.yaml)."""
     for source in rule.goal:
-        goal, moved = _goal(source, op, focus, rules, model, file, where)
+        goal, moved = _goal(source, op, focus, rules, model, plan, where)
         if goal is not None:
             return goal, moved
     return None, 0.0
 
 
 def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
-          model: EnvModel, file: str, where: str, check: bool = True
+          model: EnvModel, plan: Plan, where: str, check: bool = True
           ) -> tuple[Vec | None, float]:
     """A goal from one source (commands.yaml ``goal``), or None if it does not apply,
     and how far a placement was moved so that its load stands (``check``: a spot taken
@@ -383,8 +383,9 @@ def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
                 if r.subject == focus and r.type in rules.support_relations), None)
     if rel is None:
         return None, 0.0
-    goal, moved = placement(rel, focus, rules, model, file, where,
-                            taught_positions(op.si, rules.support_relations), check)
+    goal, moved = placement(rel, focus, rules, model, plan.file, where,
+                            taught_positions(op.si, rules.support_relations), check,
+                            to_come(plan, focus, rules.support_relations, model))
     found = fine.aligned(op, focus, goal, rules, model)
     if found is not None:  # the demonstrated ALIGN: flush with its partner (fine.py)
         goal = found[0]

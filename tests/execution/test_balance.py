@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from lbw_engine.do import plan as planmod
-from lbw_engine.do.balance import unbalanced
+from lbw_engine.do.balance import steadied, unbalanced
 from lbw_engine.model.env import Body, EnvModel
 from lbw_engine.pipeline.execute import execute_plan
 from lbw_engine.rules import load_rules
@@ -54,3 +54,48 @@ def test_seed_1048_learned_plan_executes_and_verifies():
     first, second = puts[0].goal, puts[-1].goal
     assert puts[0].focus != puts[-1].focus
     assert abs(first[0] - pillar[0]) < abs(second[0] - pillar[0])
+
+
+def _steps(second: float) -> EnvModel:
+    """Two 40 mm cubes of a staircase: the bottom one at x 0, the next ``second`` along."""
+    bodies = {"s1": Body("cube", (40, 40, 40), (0, 0, 20)),
+              "s2": Body("cube", (40, 40, 40), (second, 0, 60))}
+    return EnvModel.measured(load_rules(), bodies, (0, 200, 200))
+
+
+@pytest.mark.parametrize(("xy", "coming", "stays"), [
+    ((12.0, 0.0), [], True),                              # one step alone stands
+    ((16.0, 0.0), [], True),                              # ... measured 4 mm long too
+    ((12.0, 0.0), [(12.0, 0.0, 64000.0)], True),          # with the top step, 2 mm inside
+    ((16.0, 0.0), [(12.0, 0.0, 64000.0)], False),         # ... 4 mm long, beyond: moved
+    ((4.0, 0.0), [(12.0, 0.0, 64000.0)], True),           # a low staircase keeps its spot
+    ((0.0, 16.0), [(0.0, 12.0, 64000.0)], False),         # along y as along x
+], ids=["one-step", "one-step-long", "two-steps", "two-steps-long", "low-steps",
+        "steps-along-y"])
+def test_a_step_carries_what_the_plan_will_put_on_it(xy, coming, stays):
+    """Bench 1262 at 2x: a staircase's middle cube measured 4 mm long stood alone; the top
+    cube set on it later tipped both off the bottom one (and off the table). The middle
+    cube's spot must carry what the plan will still put on it (balance.steadied
+    ``coming``): its centre of mass with the top step at least steady-margin inside."""
+    model = _steps(0.0)
+    del model.bodies["s2"]
+    model.bodies["s2"] = Body("cube", (40, 40, 40), (300.0, 0.0, 20.0))  # still on the table
+    rules = load_rules().commands
+    out, moved = steadied(model, "s2", xy, ["s1"], rules.balance_margin,
+                          rules.steady_margin, coming)
+    assert (moved == 0.0) == stays, (out, moved)
+    if not stays:
+        load = [(out[k] * 64000.0 + sum(v * (out[k] + d[k]) for *d, v in coming))
+                / (64000.0 * (1 + len(coming))) for k in range(2)]
+        assert all(abs(c) <= 20.0 - rules.steady_margin + 1e-6 for c in load), (out, load)
+
+
+@pytest.mark.heavy
+def test_seed_1262_staircase_stands():
+    """The learned plan of bench 1262 (stairs, 2x): executed, the staircase stands and
+    verifies (the top step and the middle one fell off the table: 'a cube is gone')."""
+    rules = load_rules()
+    plan = planmod.load(DATA / "gen-1262-2x.plan.json")
+    result = execute_plan(plan, load(DATA / "gen-1262-2x.yaml"), rules)
+    assert result.success, result.message
+    assert any(op.steadied > 0 for op in result.trace.ops)
