@@ -7,7 +7,7 @@ the monitor poses the block, those readings must go with it.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -17,6 +17,7 @@ from perception.vision.vfd.objects import FoundObject
 
 GATE_MM = 15.0  # a top face this near an expected block's (in x, y) may be that block
 SIZE_MM = 8.0  # and its footprint this near the block's shape
+SHIFT_MM = 4.0  # a posed block read farther off than this is tried where it was read
 
 
 def box_rect(cam: Camera, center: Sequence[float], size: Sequence[float]
@@ -110,3 +111,40 @@ def overlaps_images(cameras: Mapping[str, Camera], found: FoundObject,
 def meet(a: Sequence[float], b: Sequence[float]) -> bool:
     """Whether two image rectangles (u0, v0, u1, v1) overlap."""
     return min(a[2], b[2]) > max(a[0], b[0]) and min(a[3], b[3]) > max(a[1], b[1])
+
+
+def shifted(boxes: list, named: Mapping[str, int], found: Sequence[FoundObject],
+            cost: Callable[[], int], worse: int) -> None:
+    """Posed blocks moved to where the finder read them, when the views say so.
+
+    A block posed with its structure (``explain``) keeps its expected pose while the
+    views near it agree to within a pixel's band, and a block under another shows too
+    little of itself to move that band: a tower's middle cube slid 7 mm (2.3 pixels)
+    passed as in place, though the finder had read it 7 mm off (helper round 15's AN).
+    Where a reading of the posed block's shape and height lies more than SHIFT_MM off
+    it, the block is tried there, along either axis or both; a trial stands only if it
+    explains the views by more than ``worse`` wrong pixels better than the pose."""
+    base = cost()
+    for _, i in sorted(named.items()):  # in name order
+        posed = boxes[i]
+        for r in found:
+            d = [r.position[k] - posed.position[k] for k in range(2)]
+            if not (SHIFT_MM < max(map(abs, d)) <= GATE_MM
+                    and abs(r.position[2] - posed.position[2]) <= SIZE_MM
+                    and all(abs(a - b) <= SIZE_MM for a, b in zip(
+                        sorted(r.size), sorted(posed.size), strict=True))):
+                continue
+            best = None
+            for dx, dy in ((d[0], 0.0), (0.0, d[1]), tuple(d)):
+                if max(abs(dx), abs(dy)) <= SHIFT_MM:
+                    continue
+                boxes[i] = FoundObject(posed.shape, (posed.position[0] + dx, posed.position[1]
+                                                     + dy, posed.position[2]),
+                                       posed.size, posed.mismatch)
+                trial = cost()
+                if trial < base - worse and (best is None or trial < best[0]):
+                    best = (trial, boxes[i])
+            boxes[i] = posed if best is None else best[1]
+            if best is not None:
+                base = best[0]
+                break

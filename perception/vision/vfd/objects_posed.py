@@ -45,6 +45,7 @@ from perception.vision.vfd.objects_pieces import (
     overlaps_images,
     pieces_of,
     reading_of,
+    shifted,
     with_columns_under,
 )
 from perception.vision.vfd.resources import VisionResources
@@ -172,6 +173,7 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
                 boxes[named.pop(n)] = None
                 added.remove(n)
     if named:
+        shifted(boxes, named, found, cost, WORSE_PX)
         _drop_unseen(boxes, named, cost)
     if most:
         _too_many(boxes, named, added, most, cost)
