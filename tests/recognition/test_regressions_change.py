@@ -109,3 +109,13 @@ def test_a_touch_with_a_long_beam_in_hand_is_not_its_place():
     was set down there."""
     sc, _, actions = watch_generated(1097, "2x", family="beams")
     assert_sequence(sc, actions)
+
+
+def test_a_10mm_cube_set_on_a_raised_plate_is_placed():
+    """Helper round 15's 54: 10 mm cubes set on a 10 mm plate on two 40 mm cubes. A place
+    seen from the shade alone is refused where the spot the hand let go at is plainly
+    empty; for the 10 mm cube the side view's front face there was 5 pixels, all dark
+    (its own shade lost at that size), and the place became a NO-OP (stop 33, while the
+    refusal counted any front face). It now takes VACANT_PX face pixels."""
+    sc, _, actions = watch_file(DATA / "small-cubes-on-a-raised-plate.yaml")
+    assert_sequence(sc, actions)

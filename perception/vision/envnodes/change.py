@@ -58,6 +58,7 @@ HOLD_SHARE = 0.35  # of the share a held block's image covers: a small block hel
 # (sensor noise flips single pixels; a 10 mm cube fully in view changes about 10).
 MIN_CHANGE_PX = 6
 LOAD_MM = 3.0  # the carried block's outline grown by this (tremor, tracking)
+VACANT_PX = 20  # front-face pixels that must show a let-go spot empty to refuse a shade
 BESIDE_MM = 10.0  # a block this close beside a picked target may be the one the hand took
 
 class ChangeNode(EnvNodeBase):
@@ -180,6 +181,13 @@ class ChangeNode(EnvNodeBase):
         at_spot = self.sights.seen_at(settled(set_down[1], act, env), {set_down[0].name},
                                       env, creases=True) if set_down is not None else None
         landed = at_spot is True
+        # ... or plainly sees it empty, by a front face of some size: a 180 mm beam touched
+        # to the beam it then went on, and lifted, showed 386 dark face pixels there (bench
+        # 1097 at 2x, read as placed from a shade change of 0.112, 0.111 asked); a 10 mm
+        # cube set on a plate showed 5, all dark (helper round 15's 54)
+        vacant = at_spot is False and self.sights.seen_at(
+            settled(set_down[1], act, env), {set_down[0].name}, env, creases=True,
+            face_px=VACANT_PX) is False
         det.attention(shot.region)
         det.area_threshold = self.threshold(shot, first["size"], place=place,
                                             others=() if place else self.in_sight(act, env))
@@ -232,12 +240,10 @@ class ChangeNode(EnvNodeBase):
                 # the start lost a 30 mm cube set on a tower beside a 150 mm post, which
                 # showed 0.06 of the window (helper round 10, y10)
                 result = APPEARED
-            elif act.special and emptied and at_spot is not False and \
+            elif act.special and emptied and not vacant and \
                     shade_change(shot, last) >= det.area_threshold:
                 # set down onto or in front of blocks already in view; not where a view
-                # plainly sees the spot it was let go at empty (a 180 mm beam touched to the
-                # beam it then went on, and lifted: bench 1097 at 2x, its shade 0.112 of
-                # 0.111 asked)
+                # plainly sees the spot it was let go at empty (``vacant``)
                 result = APPEARED
             elif act.special and emptied and \
                     (seen := self.sights.unknown_top(last, env, load))[0] >= det.area_threshold:

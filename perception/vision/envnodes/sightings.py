@@ -59,15 +59,16 @@ class Sightings:
             (outline & band(img, *HAND_BAND)).sum() >= KEPT * outline.sum()
 
     def seen_at(self, region: Region3D, own: set[str], env: EnvModel,
-                creases: bool = False) -> bool | None:
+                creases: bool = False, face_px: int = FACE_PX) -> bool | None:
         """Whether a block fills ``region`` in the current frame: True if the side view
         sees it plainly with its outline bright, False if a view that sees it plainly
         shows it empty (and none bright), None if no view tells. Objects other than
-        ``own`` and the held ones hide what they cover."""
+        ``own`` and the held ones hide what they cover; a front face showing fewer than
+        ``face_px`` pixels tells nothing (``_front_on_support``)."""
         self.detector.attention(region)
         shot = self.detector.take(self.sight.frame)
         others = boxes_but(env, own | set(env.held()))
-        verdicts = {self._front_on_support(region, others, shot)} - {None}
+        verdicts = {self._front_on_support(region, others, shot, face_px)} - {None}
         for view, (window,) in self.detector.windows.items():
             cam, img = self.sight.cameras[view], shot.pixels[view]
             outline, clear = visible_outline(cam, region, window, img, others)
@@ -88,7 +89,7 @@ class Sightings:
         return True if True in verdicts else False if False in verdicts else None
 
     def _front_on_support(self, region: Region3D, others: list[Region3D],
-                          shot: Snapshot) -> bool | None:
+                          shot: Snapshot, face_px: int = FACE_PX) -> bool | None:
         """A block standing on others, seen from the side by its front face's shade.
 
         Its supports' outlines cover its whole image in the side view (the camera looks
@@ -108,7 +109,7 @@ class Sightings:
         face = Region3D(region.lo, (region.hi[0], region.lo[1], region.hi[2]))
         mask = region_mask(cam, face, window) & ~band(img, *HAND_BAND) & \
             ~regions_mask(cam, [b for b in others if b not in below], window)
-        if mask.sum() < FACE_PX:
+        if mask.sum() < face_px:
             return None
         shade = float((mask & band(img, *FRONT_BAND)).sum()) / float(mask.sum())
         return True if shade >= KEPT else False if shade <= GONE else None
