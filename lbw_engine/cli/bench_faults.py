@@ -4,7 +4,8 @@ Each generated scenario is watched and analyzed once (as in ``lbw bench``); its
 learned plan is then executed several times in the scenario's execution
 workspace: without faults, and with faults drawn from the seed (design.md
 ``execute.faults``): a drop, a displace, a remove without and with a spare of
-the removed object's shape, and a drop with a displace. Scored per injected
+the removed object's shape, a drop with a displace, and a nudge of 6-12 mm once the
+structure is built. Scored per injected
 fault, from the execution reports (ground truth only for scoring):
 
 * detected — a monitor detection at or after the fault, before the next one;
@@ -31,8 +32,11 @@ import numpy as np
 
 from lbw_engine.names import TABLE
 
-KINDS = ("none", "drop", "displace", "remove", "remove-spare", "drop+displace")
+KINDS = ("none", "drop", "displace", "remove", "remove-spare", "drop+displace", "nudge")
 SHIFT_MM = (50.0, 90.0)  # how far a displace slides an object
+# ... and a nudge, after the last ACHIEVE, along x or y: past the 5 mm position tolerance,
+# a block under others moves its image by 2-4 pixels (helper round 15's AN)
+NUDGE_MM = (6.0, 12.0)
 
 
 def run_faults_one(task: tuple[int, str, str | None, str]) -> list[dict[str, Any]]:
@@ -129,6 +133,12 @@ def draw_faults(kind: str, sc: Any, plan: Any, rng: np.random.Generator
         when = int(rng.integers(1, n + 1))
         if part == "drop":
             lines.append(f"{{during: {when}, kind: drop}}")
+        elif part == "nudge":
+            obj = names[int(rng.integers(len(names)))]
+            d = float(rng.uniform(*NUDGE_MM)) * (1.0 if rng.integers(2) else -1.0)
+            by = (d, 0.0) if rng.integers(2) else (0.0, d)
+            lines.append(f"{{after: {n}, kind: displace, object: {obj}, "
+                         f"by: [{by[0]:.0f}, {by[1]:.0f}]}}")
         elif part == "displace":
             obj = names[int(rng.integers(len(names)))]
             by = _free_shift(sc, obj, rng)

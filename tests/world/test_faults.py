@@ -1,6 +1,9 @@
 """execute.faults (design.md "Scenario file"): strict loading, and the world-side injection."""
 
+from pathlib import Path
+
 import pytest
+import yaml
 
 from lbw_engine.errors import InputError
 from perception.world.faults import Fault, FaultInjector
@@ -216,3 +219,27 @@ def test_a_block_moved_along_y_onto_another_stops_against_it():
     world.settle(0.5)
     assert world.extent("x", 1)[1] == pytest.approx(world.extent("p", 1)[0], abs=0.5)
     assert world.positions()["x"][2] == pytest.approx(25.0, abs=1.0)  # on the table
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3, 4, 5, 6])
+def test_a_nudge_slides_a_used_block_a_few_mm_once_the_structure_is_built(seed):
+    """The fault bench's nudge (stop 33): after the last ACHIEVE, one block the plan uses
+    moves 6-12 mm along one axis, past the 5 mm position tolerance."""
+    import numpy as np
+
+    from lbw_engine.cli.bench_faults import NUDGE_MM, draw_faults
+    from lbw_engine.do import plan as planmod
+    from lbw_engine.do.monitor import UNIT_CLASS
+    from lbw_engine.paths import bundled_scenario
+    from perception.world.scenario import load
+
+    sc = load(bundled_scenario("tower"))
+    plan = planmod.load(Path(__file__).resolve().parent.parent / "data" / "tower.plan.json")
+    units = sum(1 for op in plan.operators.values() if op.cls == UNIT_CLASS)
+    lines, extra = draw_faults("nudge", sc, plan, np.random.default_rng(seed))
+    assert extra == "" and len(lines) == 1
+    fault = yaml.safe_load(lines[0])
+    assert fault["kind"] == "displace" and fault["after"] == units
+    assert fault["object"] in sc.execute.objects
+    moved = [abs(v) for v in fault["by"] if v != 0]
+    assert len(moved) == 1 and NUDGE_MM[0] - 0.5 <= moved[0] <= NUDGE_MM[1] + 0.5
