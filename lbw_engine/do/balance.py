@@ -45,8 +45,10 @@ def steadied(model: EnvModel, name: str, xy: tuple[float, float], supports: list
     Per axis: when the load's centre of mass at ``xy`` is within ``margin`` of
     the edge of where the object would meet its supports (or beyond it), the
     object moves along that axis until the centre of mass is ``steady`` mm
-    inside (at most to the middle of the supports). Returns the x-y and how far
-    it moved (mm). Placements on the table, or partly on it, are not moved.
+    inside (at most to the middle of the supports). The load is the object with
+    its riders, which must stand until the rest comes, and with ``coming`` too:
+    the spot must suit both, or else the first. Returns the x-y and how far it
+    moved (mm). Placements on the table, or partly on it, are not moved.
     """
     under = _raised(model, supports)
     if not under:
@@ -56,16 +58,25 @@ def steadied(model: EnvModel, name: str, xy: tuple[float, float], supports: list
     total = mass + sum(v for _, _, v in coming)
     out = list(xy)
     for k in range(2):
-        # relative to the object's centre: it moves with it
-        c = (mass * (com[k] - b.position[k]) + sum(v * d[k] for *d, v in coming)) / total
+        # centres of mass relative to the object's centre (they move with it): the load
+        # now, and with what is to come
+        now = com[k] - b.position[k]
+        loads = [now, (mass * now + sum(v * d[k] for *d, v in coming)) / total]
         half = b.size[k] / 2
-        if not -half + margin <= c <= half - margin:
-            continue  # off the object's own footprint: moving the object cannot help
+        # off the object's own footprint: moving the object cannot help that load
+        loads = [c for c in loads[:1 + bool(coming)] if -half + margin <= c <= half - margin]
+        if not loads:
+            continue
         lo, hi = _span(model, under, k)
-        if lo + margin <= xy[k] + c <= hi - margin:
+        if all(lo + margin <= xy[k] + c <= hi - margin for c in loads):
             continue  # it stands where it was taught
         inset = min(steady, (hi - lo) / 2)
-        out[k] = min(max(xy[k] + c, lo + inset), hi - inset) - c
+        # the object's centres that keep each load's centre of mass ``inset`` inside
+        spans = [(lo + inset - c, hi - inset - c) for c in loads]
+        low, high = max(a for a, _ in spans), min(z for _, z in spans)
+        if low > high:  # no spot suits both: the load there now must stand
+            low, high = spans[0]
+        out[k] = min(max(xy[k], low), high)
     moved = ((out[0] - xy[0]) ** 2 + (out[1] - xy[1]) ** 2) ** 0.5
     return (out[0], out[1]), moved
 

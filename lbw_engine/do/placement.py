@@ -110,13 +110,16 @@ def to_come(plan: Plan, focus: str, support: Collection[str], model: EnvModel
                 r.wrt == r.objects[0] and r.subject in model.bodies:
             final.setdefault(r.wrt, []).append(r)
     riding, out = set(model.supported_by(focus)), []
-    todo = [(focus, 0.0, 0.0)]
-    while todo and len(out) < len(model.bodies):
+    todo, seen = [(focus, 0.0, 0.0)], {focus}
+    while todo:
         name, dx, dy = todo.pop()
         for r in final.get(name, ()):
+            if r.subject in seen:  # a support cycle (a malformed plan.json) ends here
+                continue
+            seen.add(r.subject)
             at = (dx + r.at[0], dy + r.at[1])
             todo.append((r.subject, *at))
-            if r.subject not in riding and r.subject != focus:
+            if r.subject not in riding:
                 s = model.bodies[r.subject].size
                 out.append((*at, s[0] * s[1] * s[2]))
     return out

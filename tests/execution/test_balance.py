@@ -56,17 +56,17 @@ def test_seed_1048_learned_plan_executes_and_verifies():
     assert abs(first[0] - pillar[0]) < abs(second[0] - pillar[0])
 
 
-def _steps(second: float) -> EnvModel:
-    """Two 40 mm cubes of a staircase: the bottom one at x 0, the next ``second`` along."""
+def _steps() -> EnvModel:
+    """The bottom 40 mm cube of a staircase at x 0; the next one still on the table."""
     bodies = {"s1": Body("cube", (40, 40, 40), (0, 0, 20)),
-              "s2": Body("cube", (40, 40, 40), (second, 0, 60))}
+              "s2": Body("cube", (40, 40, 40), (300, 0, 20))}
     return EnvModel.measured(load_rules(), bodies, (0, 200, 200))
 
 
 @pytest.mark.parametrize(("xy", "coming", "stays"), [
     ((12.0, 0.0), [], True),                              # one step alone stands
     ((16.0, 0.0), [], True),                              # ... measured 4 mm long too
-    ((12.0, 0.0), [(12.0, 0.0, 64000.0)], True),          # with the top step, 2 mm inside
+    ((12.0, 0.0), [(12.0, 0.0, 64000.0)], True),          # with the top step: on the margin
     ((16.0, 0.0), [(12.0, 0.0, 64000.0)], False),         # ... 4 mm long, beyond: moved
     ((4.0, 0.0), [(12.0, 0.0, 64000.0)], True),           # a low staircase keeps its spot
     ((0.0, 16.0), [(0.0, 12.0, 64000.0)], False),         # along y as along x
@@ -77,9 +77,7 @@ def test_a_step_carries_what_the_plan_will_put_on_it(xy, coming, stays):
     cube set on it later tipped both off the bottom one (and off the table). The middle
     cube's spot must carry what the plan will still put on it (balance.steadied
     ``coming``): its centre of mass with the top step at least steady-margin inside."""
-    model = _steps(0.0)
-    del model.bodies["s2"]
-    model.bodies["s2"] = Body("cube", (40, 40, 40), (300.0, 0.0, 20.0))  # still on the table
+    model = _steps()
     rules = load_rules().commands
     out, moved = steadied(model, "s2", xy, ["s1"], rules.balance_margin,
                           rules.steady_margin, coming)
@@ -99,3 +97,49 @@ def test_seed_1262_staircase_stands():
     result = execute_plan(plan, load(DATA / "gen-1262-2x.yaml"), rules)
     assert result.success, result.message
     assert any(op.steadied > 0 for op in result.trace.ops)
+
+
+def test_a_block_put_now_stands_though_what_comes_later_would_ask_otherwise():
+    """A 100 mm plank on a 20 mm post with a brick to come 30 mm out: no spot keeps both
+    loads' centres of mass inside the post, so the plank alone must stand where it goes
+    (it sits there until the brick comes; review of stop 33)."""
+    bodies = {"post": Body("post", (20, 20, 40), (0, 0, 20)),
+              "plank": Body("plank", (100, 20, 10), (300, 0, 5))}
+    model = EnvModel.measured(load_rules(), bodies, (0, 200, 200))
+    rules = load_rules().commands
+    out, _ = steadied(model, "plank", (0.0, 0.0), ["post"], rules.balance_margin,
+                      rules.steady_margin, [(30.0, 0.0, 30.0 * 30 * 30)])
+    assert abs(out[0]) <= 10.0 - rules.balance_margin, out
+
+
+def _final(*rels):
+    """A plan whose root's SC+ holds ``rels`` (type, subject, support, at)."""
+    from types import SimpleNamespace as NS
+
+    from lbw_engine.do.plan import Relation
+
+    return NS(root="r", operators={"r": NS(sc_plus=tuple(
+        Relation(t, s, (o,), at=at, wrt=o if o != "table" else None) for t, s, o, at in rels))})
+
+
+@pytest.mark.parametrize(("rels", "riding", "want"), [
+    # a chain: c on b on a, both to come (offsets add up)
+    ([("on", "b", "a", (5, 0, 40)), ("on", "c", "b", (5, 0, 40))], [], [(5, 0), (10, 0)]),
+    # b already rides on a: only c is to come, at its offset through b
+    ([("on", "b", "a", (5, 0, 40)), ("on", "c", "b", (5, 0, 40))], ["b"], [(10, 0)]),
+    # on the table: nothing rests on a
+    ([("on", "b", "table", (100, 0, 20))], [], []),
+    # a support cycle (a malformed plan): each block counted once, and the walk ends
+    ([("on", "b", "a", (5, 0, 40)), ("on", "a", "b", (-5, 0, -40))], [], [(5, 0)]),
+], ids=["chain", "already-riding", "table", "cycle"])
+def test_what_the_plan_will_still_put_on_a_block(rels, riding, want):
+    from lbw_engine.do.placement import to_come
+
+    bodies = {"a": Body("cube", (40, 40, 40), (0, 0, 20)),
+              "b": Body("cube", (40, 40, 40), (200, 0, 60 if riding else 20)),
+              "c": Body("cube", (40, 40, 40), (-200, 0, 20))}
+    if riding:
+        bodies["b"] = Body("cube", (40, 40, 40), (0, 0, 60))
+    model = EnvModel.measured(load_rules(), bodies, (0, 200, 200))
+    got = to_come(_final(*rels), "a", ("on",), model)
+    assert sorted((round(x), round(y)) for x, y, _ in got) == sorted(want)

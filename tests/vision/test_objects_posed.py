@@ -339,3 +339,34 @@ def test_towers_under_a_beam_pushed_back_are_still_seen(dy):
         Frame(0, 0.0, images["top"], images["side"]), {"cube": TOWER_CUBE, "beam": LONG_BEAM})
     _, named, _ = explain(cams, images, found, TOWERS)
     assert {"a", "b", "c", "d"} <= set(named)
+
+
+def _cube(x: float, y: float = 200.0, z: float = 45.0, shape: str = "cube") -> FoundObject:
+    return FoundObject(shape, (x, y, z), (30.0, 30.0, 30.0), 0.0)
+
+
+@pytest.mark.parametrize(("reading", "gain", "moved"), [
+    (_cube(107.0), 40, True),                 # read 7 mm off, the views far better there
+    (_cube(107.0), 12, False),                # ... better by no more than WORSE_PX: stays
+    (_cube(103.0), 40, False),                # read within SHIFT_MM: a measurement, stays
+    (_cube(120.0), 40, False),                # beyond the gate: another block's reading
+    (_cube(107.0, shape="brick"), 40, False),  # another shape's reading
+    (_cube(107.0, z=75.0), 40, False),        # the block above's reading (a tower)
+], ids=["slid-7mm", "no-better", "within-4mm", "past-gate", "other-shape", "block-above"])
+def test_a_posed_block_goes_where_the_finder_read_it_only_when_the_views_say_so(
+        reading, gain, moved):
+    """objects_pieces.shifted (helper round 15's AN): a tower's middle cube posed at x 100
+    and read elsewhere. ``cost`` stands for the silhouette check: ``gain`` fewer wrong
+    pixels with the cube where it was read."""
+    from perception.vision.vfd.objects_pieces import shifted
+    from perception.vision.vfd.objects_posed import WORSE_PX
+
+    boxes = [_cube(100.0, z=15.0), _cube(100.0), _cube(100.0, z=75.0)]
+    named = {"a": 0, "b": 1, "c": 2}
+
+    def cost() -> int:
+        return 100 - (gain if abs(boxes[1].position[0] - reading.position[0]) < 0.5 else 0)
+
+    shifted(boxes, named, [boxes[0], reading, boxes[2]], cost, WORSE_PX)
+    assert (boxes[1].position[0] != 100.0) is moved, boxes[1]
+    assert boxes[1].position[1:] == (200.0, 45.0) and boxes[1].size == (30.0, 30.0, 30.0)

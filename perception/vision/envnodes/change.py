@@ -58,7 +58,7 @@ HOLD_SHARE = 0.35  # of the share a held block's image covers: a small block hel
 # (sensor noise flips single pixels; a 10 mm cube fully in view changes about 10).
 MIN_CHANGE_PX = 6
 LOAD_MM = 3.0  # the carried block's outline grown by this (tremor, tracking)
-VACANT_PX = 20  # front-face pixels that must show a let-go spot empty to refuse a shade
+VACANT_PX = 20  # front-face pixels that may show a let-go spot empty (to refuse a shade)
 BESIDE_MM = 10.0  # a block this close beside a picked target may be the one the hand took
 
 class ChangeNode(EnvNodeBase):
@@ -181,7 +181,8 @@ class ChangeNode(EnvNodeBase):
         at_spot = self.sights.seen_at(settled(set_down[1], act, env), {set_down[0].name},
                                       env, creases=True) if set_down is not None else None
         landed = at_spot is True
-        # ... or plainly sees it empty, by a front face of some size: a 180 mm beam touched
+        # ... or plainly sees it empty, where a front face counts only with VACANT_PX pixels
+        # or more (a view's own dark reading counts as ever): a 180 mm beam touched
         # to the beam it then went on, and lifted, showed 386 dark face pixels there (bench
         # 1097 at 2x, read as placed from a shade change of 0.112, 0.111 asked); a 10 mm
         # cube set on a plate showed 5, all dark (helper round 15's 54)

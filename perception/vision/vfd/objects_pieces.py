@@ -125,15 +125,16 @@ def shifted(boxes: list, named: Mapping[str, int], found: Sequence[FoundObject],
     it, the block is tried there, along either axis or both; a trial stands only if it
     explains the views by more than ``worse`` wrong pixels better than the pose."""
     base = cost()
+    poses = {i: boxes[i] for i in named.values()}
     for _, i in sorted(named.items()):  # in name order
         posed = boxes[i]
         for r in found:
             d = [r.position[k] - posed.position[k] for k in range(2)]
-            if not (SHIFT_MM < max(map(abs, d)) <= GATE_MM
+            if not (r.shape == posed.shape and SHIFT_MM < max(map(abs, d)) <= GATE_MM
                     and abs(r.position[2] - posed.position[2]) <= SIZE_MM
-                    and all(abs(a - b) <= SIZE_MM for a, b in zip(
-                        sorted(r.size), sorted(posed.size), strict=True))):
-                continue
+                    and reading_of([r], [0], posed.position, posed.size)) or any(
+                        j != i and _apart(r, p) < _apart(r, posed) for j, p in poses.items()):
+                continue  # not this block's reading, or nearer another posed block
             best = None
             for dx, dy in ((d[0], 0.0), (0.0, d[1]), tuple(d)):
                 if max(abs(dx), abs(dy)) <= SHIFT_MM:
@@ -148,3 +149,8 @@ def shifted(boxes: list, named: Mapping[str, int], found: Sequence[FoundObject],
             if best is not None:
                 base = best[0]
                 break
+
+
+def _apart(a: FoundObject, b: FoundObject) -> float:
+    """How far apart two blocks' centres are (mm)."""
+    return float(np.linalg.norm(np.subtract(a.position, b.position)))
