@@ -206,6 +206,9 @@ def _check_plot_refs(root: str, ops: dict[str, Operator], leaves: dict[str, str]
         if not m:
             raise fail(f"{shorten(leaf)} is neither an operator nor a recognized operation name "
                        "(operation + number, e.g. pick01)", f"operators.{clip(name)}.plot")
+        if leaf in leaves:  # one recognized action, done once
+            raise fail(f"action {shorten(leaf)} is in the plots twice",
+                       f"operators.{clip(name)}.plot")
         leaves[leaf] = m.group(1).upper()
 
 

@@ -135,9 +135,15 @@ def test_unknown_operation_is_bad_input():
         ({"root": "a", "operators": {"a": {"class": "BUILD", "plot": [
             "$sequence", ["$action", "b"], ["$action", "b"]]},
             "b": {"class": "PUT", "plot": ["$action", "place01"]}}}, "in the plots twice"),
+        # ... and one recognized action done twice (review of stop 32)
+        ({"root": "a", "operators": {"a": {"class": "BUILD", "plot": [
+            "$sequence", ["$action", "b"], ["$action", "c"]]},
+            "b": {"class": "PUT", "plot": ["$action", "place01"]},
+            "c": {"class": "PUT", "plot": ["$action", "place01"]}}},
+         "action 'place01' is in the plots twice"),
     ],
     ids=["no-root", "unknown-root", "bad-plot", "cycle", "bad-relation", "bad-leaf",
-         "empty-plot", "empty-inner-plot", "operator-twice"],
+         "empty-plot", "empty-inner-plot", "operator-twice", "action-twice"],
 )
 def test_bad_plans_are_input_errors(doc, needle):
     with pytest.raises(InputError) as exc:
