@@ -155,3 +155,18 @@ def test_a_block_set_down_behind_another_is_seen_placed(tmp_path, capsys):
     assert report["monitor"]["detections"] == []
     assert all(o["agree"] for o in report["monitor"]["operations"])
     assert len(report["monitor"]["operations"]) == 11  # each unit once
+
+
+def test_a_pick_behind_a_taller_tower_is_judged_once_its_spot_shows(tmp_path, capsys):
+    """Helper round 15's AI: a staircase whose last cube starts behind the 3-high tower
+    already built, as the side camera sees it, with the jaws closing along y (the near
+    jaw hides the held cube from the side) and the palm over its spot from above. No view
+    told whether it was taken, the holder window showed nothing: the pick and its place
+    were watched as NO-OPs and the unit redone (a fault-free run with two detections). The
+    pick is now judged once a view shows its spot (ChangeNode.too_small)."""
+    code, report, err = execute(tmp_path, DATA / "staircase-picked-behind-its-tower.yaml",
+                                capsys, "staircase-picked-behind-its-tower.plan.json")
+    assert code == 0, err
+    assert report["monitor"]["detections"] == []
+    assert report["monitor"]["repairs"] == []
+    assert all(o["agree"] for o in report["monitor"]["operations"])

@@ -134,7 +134,12 @@ class ChangeNode(EnvNodeBase):
                 return False
             lift = (targets[0], Region3D.around(self.hand.hand, targets[0].size))
             fill, spot = self.holder.visible_fill(lift, env), box(targets[0])
-            if held_bar(fill) <= EMPTY and self.seen(targets[0], env) is None:
+            # ... or one the window does not show held (the robot's near jaw hides it when
+            # the jaws close along y), while no view tells whether it still stands there
+            # (a cube picked behind a taller tower, the palm over its spot: helper round
+            # 15's AI, a right pick watched as a NO-OP and redone)
+            if (held_bar(fill) <= EMPTY or self.holder.in_hand(lift[1], env) < held_bar(fill)) \
+                    and self.seen(targets[0], env) is None:
                 return True
         return spot is not None and fill is not None and held_bar(fill) <= EMPTY \
             and self.sights.palm_over(spot)
