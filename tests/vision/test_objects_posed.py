@@ -352,7 +352,10 @@ def _cube(x: float, y: float = 200.0, z: float = 45.0, shape: str = "cube") -> F
     (_cube(120.0), 40, False),                # beyond the gate: another block's reading
     (_cube(107.0, shape="brick"), 40, False),  # another shape's reading
     (_cube(107.0, z=75.0), 40, False),        # the block above's reading (a tower)
-], ids=["slid-7mm", "no-better", "within-4mm", "past-gate", "other-shape", "block-above"])
+    (_cube(100.0, y=207.0), 40, False),       # 7 mm along the side camera's line of sight:
+    #                                           0.8 pixel there, no evidence (bench 1201)
+], ids=["slid-7mm", "no-better", "within-4mm", "past-gate", "other-shape", "block-above",
+        "along-the-line-of-sight"])
 def test_a_posed_block_goes_where_the_finder_read_it_only_when_the_views_say_so(
         reading, gain, moved):
     """objects_pieces.shifted (helper round 15's AN): a tower's middle cube posed at x 100
@@ -365,8 +368,10 @@ def test_a_posed_block_goes_where_the_finder_read_it_only_when_the_views_say_so(
     named = {"a": 0, "b": 1, "c": 2}
 
     def cost() -> int:
-        return 100 - (gain if abs(boxes[1].position[0] - reading.position[0]) < 0.5 else 0)
+        return 100 - (gain if abs(boxes[1].position[0] - reading.position[0]) < 0.5
+                      and abs(boxes[1].position[1] - reading.position[1]) < 0.5 else 0)
 
-    shifted(boxes, named, [boxes[0], reading, boxes[2]], cost, WORSE_PX)
-    assert (boxes[1].position[0] != 100.0) is moved, boxes[1]
-    assert boxes[1].position[1:] == (200.0, 45.0) and boxes[1].size == (30.0, 30.0, 30.0)
+    shifted(boxes, named, [boxes[0], reading, boxes[2]], cost, WORSE_PX,
+            default_cameras()["side"])
+    assert (tuple(boxes[1].position[:2]) != (100.0, 200.0)) is moved, boxes[1]
+    assert boxes[1].position[2] == 45.0 and boxes[1].size == (30.0, 30.0, 30.0)

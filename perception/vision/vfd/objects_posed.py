@@ -173,7 +173,7 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
                 boxes[named.pop(n)] = None
                 added.remove(n)
     if named:
-        shifted(boxes, named, found, cost, WORSE_PX)
+        shifted(boxes, named, found, cost, WORSE_PX, cameras["side"])
         _drop_unseen(boxes, named, cost)
     if most:
         _too_many(boxes, named, added, most, cost)
