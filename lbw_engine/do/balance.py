@@ -54,17 +54,18 @@ def steadied(model: EnvModel, name: str, xy: tuple[float, float], supports: list
     if not under:
         return xy, 0.0
     b = model.bodies[name]
-    com, mass = _load_centre(model, name), _volume(model, name, riders=True)
+    com, mass = _load(model, name)
     total = mass + sum(v for _, _, v in coming)
     out = list(xy)
     for k in range(2):
         # centres of mass relative to the object's centre (they move with it): the load
         # now, and with what is to come
         now = com[k] - b.position[k]
-        loads = [now, (mass * now + sum(v * d[k] for *d, v in coming)) / total]
+        loads = [now] + ([(mass * now + sum(v * d[k] for *d, v in coming)) / total]
+                         if coming else [])
         half = b.size[k] / 2
         # off the object's own footprint: moving the object cannot help that load
-        loads = [c for c in loads[:1 + bool(coming)] if -half + margin <= c <= half - margin]
+        loads = [c for c in loads if -half + margin <= c <= half - margin]
         if not loads:
             continue
         lo, hi = _span(model, under, k)
@@ -87,13 +88,13 @@ def _raised(model: EnvModel, supports: Sequence[str]) -> list[str]:
     return under if under and len(under) == len(supports) else []
 
 
-def _load_centre(model: EnvModel, name: str) -> tuple[float, float]:
-    """x-y centre of mass of ``name`` and everything riding on it."""
+def _load(model: EnvModel, name: str) -> tuple[tuple[float, float], float]:
+    """x-y centre of mass of ``name`` and everything riding on it, and their mass."""
     load = [name, *model.supported_by(name)]
-    mass = [_volume(model, n) for n in load]
+    mass = [volume(model.bodies[n].size) for n in load]
     total = sum(mass)
     return tuple(sum(m * model.bodies[n].position[k] for m, n in zip(mass, load, strict=True))
-                 / total for k in range(2))
+                 / total for k in range(2)), total
 
 
 def _span(model: EnvModel, names: Sequence[str], k: int) -> tuple[float, float]:
@@ -105,7 +106,7 @@ def _span(model: EnvModel, names: Sequence[str], k: int) -> tuple[float, float]:
 def _over(name: str, under: list[str], model: EnvModel, margin: float) -> bool:
     """Is the load's centre of mass over where ``name`` meets ``under``?"""
     b = model.bodies[name]
-    com = _load_centre(model, name)
+    com, _ = _load(model, name)
     for k in range(2):
         lo, hi = _span(model, under, k)
         lo, hi = max(b.position[k] - b.size[k] / 2, lo), min(b.position[k] + b.size[k] / 2, hi)
@@ -114,10 +115,6 @@ def _over(name: str, under: list[str], model: EnvModel, margin: float) -> bool:
     return True
 
 
-def _volume(model: EnvModel, name: str, riders: bool = False) -> float:
-    """An object's volume (mm³), its mass up to the common density (``riders``: with
-    everything riding on it)."""
-    if riders:
-        return sum(_volume(model, n) for n in [name, *model.supported_by(name)])
-    s = model.bodies[name].size
-    return s[0] * s[1] * s[2]
+def volume(size: Sequence[float]) -> float:
+    """A block's volume (mm³), its mass up to the common density."""
+    return size[0] * size[1] * size[2]

@@ -16,7 +16,7 @@ from dataclasses import replace
 
 import networkx as nx
 
-from lbw_engine.do.balance import steadied
+from lbw_engine.do.balance import steadied, volume
 from lbw_engine.do.plan import Plan, Relation
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import EnvModel
@@ -120,8 +120,7 @@ def to_come(plan: Plan, focus: str, support: Collection[str], model: EnvModel
             at = (dx + r.at[0], dy + r.at[1])
             todo.append((r.subject, *at))
             if r.subject not in riding:
-                s = model.bodies[r.subject].size
-                out.append((*at, s[0] * s[1] * s[2]))
+                out.append((*at, volume(model.bodies[r.subject].size)))
     return out
 
 
