@@ -183,8 +183,9 @@ class ChangeNode(EnvNodeBase):
         # of the holder window, within an empty hand's noise: helper round 9, w83)
         set_down = self.hand.held_box(env, at=self.hand.let_go(act.since), spot=True) \
             if place and not kept else None
-        at_spot = self.sights.seen_at(settled(set_down[1], act, env), {set_down[0].name},
-                                      env, creases=True) if set_down is not None else None
+        spot = settled(set_down[1], act, env) if set_down is not None else None
+        at_spot = self.sights.seen_at(spot, {set_down[0].name}, env, creases=True) \
+            if set_down is not None else None
         landed = at_spot is True
         # ... or plainly sees it empty, where a front face counts only with VACANT_PX pixels
         # or more (a view's own dark reading counts as ever): a 180 mm beam touched
@@ -192,8 +193,7 @@ class ChangeNode(EnvNodeBase):
         # 1097 at 2x, read as placed from a shade change of 0.112, 0.111 asked); a 10 mm
         # cube set on a plate showed 5, all dark (helper round 15's 54)
         vacant = at_spot is False and self.sights.seen_at(
-            settled(set_down[1], act, env), {set_down[0].name}, env, creases=True,
-            face_px=VACANT_PX) is False
+            spot, {set_down[0].name}, env, creases=True, face_px=VACANT_PX) is False
         det.attention(shot.region)
         det.area_threshold = self.threshold(shot, first["size"], place=place,
                                             others=() if place else self.in_sight(act, env))

@@ -7,6 +7,7 @@ the monitor poses the block, those readings must go with it.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
@@ -136,10 +137,12 @@ def shifted(boxes: list, named: Mapping[str, int], found: Sequence[FoundObject],
         posed = boxes[i]
         for r in found:
             d = [r.position[k] - posed.position[k] for k in range(2)]
-            if not (r.shape == posed.shape and SHIFT_MM < max(map(abs, d)) <= GATE_MM
+            # (``reading_of`` holds it within GATE_MM in x and y)
+            if not (r.shape == posed.shape and SHIFT_MM < max(map(abs, d))
                     and abs(r.position[2] - posed.position[2]) <= SIZE_MM
                     and reading_of([r], [0], posed.position, posed.size)) or any(
-                        j != i and _apart(r, p) < _apart(r, posed) for j, p in poses.items()):
+                        j != i and math.dist(r.position, p.position)
+                        < math.dist(r.position, posed.position) for j, p in poses.items()):
                 continue  # not this block's reading, or nearer another posed block
             best = None
             for dx, dy in ((d[0], 0.0), (0.0, d[1]), tuple(d)):
@@ -148,9 +151,8 @@ def shifted(boxes: list, named: Mapping[str, int], found: Sequence[FoundObject],
                 if max(abs(dx), abs(dy)) <= SHIFT_MM or \
                         float(np.linalg.norm(uv[1] - uv[0])) < SHIFT_PX:
                     continue
-                boxes[i] = FoundObject(posed.shape, (posed.position[0] + dx, posed.position[1]
-                                                     + dy, posed.position[2]),
-                                       posed.size, posed.mismatch)
+                boxes[i] = FoundObject(posed.shape, tuple(map(float, to)), posed.size,
+                                       posed.mismatch)
                 trial = cost()
                 if trial < base - worse and (best is None or trial < best[0]):
                     best = (trial, boxes[i])
@@ -158,8 +160,3 @@ def shifted(boxes: list, named: Mapping[str, int], found: Sequence[FoundObject],
             if best is not None:
                 base = best[0]
                 break
-
-
-def _apart(a: FoundObject, b: FoundObject) -> float:
-    """How far apart two blocks' centres are (mm)."""
-    return float(np.linalg.norm(np.subtract(a.position, b.position)))
