@@ -30,7 +30,7 @@ import numpy as np
 
 from perception.world.hand import TIP, Gripper, grasp_offset, pre_shape
 from perception.world.layout import Layout
-from perception.world.physics import World
+from perception.world.physics import SUBSTEPS, World
 from perception.world.scene import Box
 from perception.world.wrist import hold_axis, slide_path, squeeze_axis
 
@@ -238,20 +238,25 @@ def _clear_of_neighbours(lay: Layout, obj: str, dest: Vec3, size: Vec3, gap: flo
     slop, hung on it and slid 23 mm off when let go (helper round 8, v66: 40 mm cubes
     laid touching along x), and the symbolic states no longer told what the cameras
     saw. ``shifted``: where earlier blocks were let down instead of their dests (in a row
-    laid touching, each is moved from the last one's shifted place)."""
+    laid touching, each is moved from the last one's shifted place). Whether a neighbour
+    is near is judged at the places the scenario gives; how far to move, from where the
+    neighbour was let down: in a row of four 10 mm cubes the shifts added up, the fourth
+    came within the third's shifted place, was taken for no neighbour, and was let down
+    on its corner (tests/world/test_demonstrator.py, tiny-row-x-touching)."""
     d = list(dest)
     low, high = dest[2] - size[2] / 2, dest[2] + size[2] / 2
     skip = {obj, *lay.riders(obj)}
-    for other, c in lay.center.items():
-        c, s = shifted.get(other, c), lay.size[other]
+    for other, c0 in lay.center.items():
+        c, s = shifted.get(other, c0), lay.size[other]
         if other in skip or c[2] + s[2] / 2 <= low + 0.5 or c[2] - s[2] / 2 >= high - 0.5:
             continue  # a support under it, or nothing at its level
         for a in (0, 1):
             if abs(d[1 - a] - c[1 - a]) >= (size[1 - a] + s[1 - a]) / 2:
                 continue  # not facing it along this axis
+            near = abs(dest[a] - c0[a]) - (size[a] + s[a]) / 2  # as the scenario lays them
             room = abs(d[a] - c[a]) - (size[a] + s[a]) / 2
-            if -gap - 0.5 < room < gap:
-                d[a] += math.copysign(gap - room, d[a] - c[a])
+            if -gap - 0.5 < near < gap and room < gap:
+                d[a] += math.copysign(gap - room, dest[a] - c0[a])
     return (d[0], d[1], d[2])
 
 
@@ -282,7 +287,7 @@ def _scene_top(lay: Layout) -> float:
 class Demonstration:
     """Iterate ``(t, scene)`` per frame of a scenario's demonstration (physics between frames)."""
 
-    def __init__(self, scenario, fps: float = 30.0, substeps: int = 4) -> None:
+    def __init__(self, scenario, fps: float = 30.0, substeps: int = SUBSTEPS) -> None:
         """Plan the hand's motion and build the teaching world."""
         self.scenario, self.fps = scenario, float(fps)
         rng = np.random.default_rng(scenario.seed)
