@@ -32,6 +32,11 @@ SUPPORT_SHARE = 0.3
 # is within DECIDE_MM of that level's top, and is dated back to when the waiting began.
 COMING_MM = 30.0
 DECIDE_MM = 60.0
+# Nor does a centre just outside a level's footprint say "beside it" before the held block
+# has come down to within LAND_MM of its top: the slant goes on below DECIDE_MM, and a
+# 10 mm cube held 9 mm off the one it went on, 57 mm up, was read as put on the table
+# (helper round 15, AM).
+LAND_MM = 15.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
 LEVEL_MM = 5.0  # ... and of those, the ones whose tops are this near the highest are as high
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
@@ -275,7 +280,8 @@ class SearchNode(EnvNodeBase):
             if narrow <= float(min(held.size[:2])) else 0.0
         if out <= -inside or (out <= reach and not high):
             return tuple(n.name for n in under)
-        return WAIT if out <= COMING_MM and high else None
+        landed = float(held.lo[2]) - top <= LAND_MM
+        return WAIT if out <= COMING_MM and not landed else None
 
 
 def _gap(a: Region3D, b: Region3D) -> float:
