@@ -231,3 +231,16 @@ def test_a_block_hemmed_in_on_both_axes_is_freed_by_setting_a_neighbour_aside():
     result = _verified("posts-hemmed-in-by-a-lintel")
     aside = [note for op in result.execution.trace.ops for note, *_ in op.aside]
     assert any("keeps the jaws off" in note for note in aside), aside
+
+
+def test_a_small_cube_taken_off_the_top_of_a_column_is_seen_gone():
+    """Helper round 15, AH (v54l): a 15 mm cube on a 20 mm cube on a plate on two cubes,
+    taken away once placed, with no spare. The finder never separates the small cube;
+    the structure posed whole fitted the views within its tolerance (a share of all
+    its outlines), and the removal was verified by the cameras (the simulator failed
+    it). The 12 side-view pixels only the cube would fill are all dark: it is gone
+    (Silhouettes.unshown), and the run ends naming it."""
+    result = run(load(DATA / "small-cube-taken-off-a-column-on-a-plate.yaml"))
+    assert result.failure == ("execution: 'm' (execute.objects 'rm') (shape t15) is gone "
+                              "and the workspace has no spare t15 to replace it")
+    assert result.execution.report["verification"] == {"cameras": False, "ground_truth": False}

@@ -15,8 +15,9 @@ from perception.vision.frames import Frame
 from perception.vision.vfd.objects import FoundObject, ObjectFinder
 from perception.vision.vfd.objects_faces import FACE_NOISE_MM, part_seen
 from perception.vision.vfd.objects_pieces import box_rect
-from perception.vision.vfd.objects_posed import Silhouettes, _drop_unseen, explain
+from perception.vision.vfd.objects_posed import _drop_unseen, explain
 from perception.vision.vfd.resources import VisionResources
+from perception.vision.vfd.silhouettes import Silhouettes
 from perception.world.render import Renderer
 from perception.world.scene import Box
 

@@ -23,14 +23,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 
-import cv2
 import networkx as nx
 import numpy as np
 
 from lbw_engine.model.geometry import footprints_meet
 from perception.vision.camera import Camera
-from perception.vision.vfd.base import DARK_MAX
-from perception.vision.vfd.objects import FoundObject, ObjectFinder
+from perception.vision.vfd.objects import FoundObject
 from perception.vision.vfd.objects_faces import (
     measure_tops,
     top_missing,
@@ -48,72 +46,14 @@ from perception.vision.vfd.objects_pieces import (
     shifted,
     with_columns_under,
 )
-from perception.vision.vfd.resources import VisionResources
+from perception.vision.vfd.silhouettes import Silhouettes
 
 OUTLINE_SHARE = 0.05  # wrong pixels off the outline bands near posed blocks, per outline px
 ABOVE_MM = 4.0  # a reading whose bottom is this near a block's top (or higher) lies on it
 PASSES = 3  # passes over the expected blocks
 WORSE_PX = 12  # more wrong pixels than this is evidence against a pose (edges, noise)
 
-_PIXEL = np.ones((3, 3), np.uint8)  # one pixel around each pixel
-_SPECK = np.ones((2, 2), np.uint8)  # wrong areas thinner than this are noise, not a block
 Expected = tuple[str, Sequence[float], Sequence[float]]  # shape, centre, size
-
-
-class Silhouettes:
-    """Wrong pixels of a set of boxes (centre, size) against both views' non-dark masks."""
-
-    def __init__(self, cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
-                 sizes: Sequence[Sequence[float]] = ()) -> None:
-        """``images`` holds the ``top`` and ``side`` gray views; ``sizes``, the blocks
-        expected, sets the smallest top face looked for in the top view (``faces``)."""
-        self.cameras = cameras
-        self.finder = ObjectFinder(cameras, VisionResources())
-        self.faces = self.finder.top_faces(images["top"], self.finder.smallest_face_px(
-            dict(enumerate(sizes)))) if sizes else []  # top faces' pixel rectangles
-        self.solid = {n: (images[n] > DARK_MAX).astype(np.uint8) for n in ("top", "side")}
-
-    def wrong(self, boxes: Sequence[tuple[Sequence[float], Sequence[float]]],
-              within: Sequence[tuple[Sequence[float], Sequence[float]]] | None = None,
-              edges: bool = True) -> int:
-        """Pixels where the boxes' silhouettes and the views disagree, both views summed;
-        only near the silhouettes of the boxes ``within`` when given; without ``edges``,
-        not on the one-pixel band either side of the drawn outlines (a pose off by less
-        than a pixel flips a whole row of a long edge there: a beam 0.5 mm off in x and y
-        flips half its outline in the top view), and not in strips one pixel thin."""
-        total = 0
-        for name, actual in self.solid.items():
-            drawn = self._draw(name, boxes, actual.shape)
-            diff = cv2.bitwise_xor(drawn, actual)
-            if not edges:
-                diff[cv2.dilate(drawn, _PIXEL) > cv2.erode(drawn, _PIXEL)] = 0
-            if within is not None:
-                near = cv2.dilate(self._draw(name, within, actual.shape), np.ones((7, 7), np.uint8))
-                diff = cv2.bitwise_and(diff, near)
-            if not edges:  # lone pixels are speckle (pixel noise), not a block
-                diff = cv2.morphologyEx(diff, cv2.MORPH_OPEN, _SPECK)
-            total += int(cv2.countNonZero(diff))
-        return total
-
-    def outline(self, boxes: Sequence[tuple[Sequence[float], Sequence[float]]]) -> int:
-        """Pixels on the outlines of the boxes' silhouettes, both views summed."""
-        total = 0
-        for name, actual in self.solid.items():
-            drawn = self._draw(name, boxes, actual.shape)
-            total += int(cv2.countNonZero(drawn - cv2.erode(drawn, np.ones((3, 3), np.uint8))))
-        return total
-
-    def _draw(self, name: str, boxes: Sequence[tuple[Sequence[float], Sequence[float]]],
-              shape: tuple[int, ...]) -> np.ndarray:
-        """The boxes' silhouettes in camera ``name``."""
-        drawn = np.zeros(shape, np.uint8)
-        for center, size in boxes:
-            corners = np.array([[center[k] + s * size[k] / 2.0 for k, s in enumerate((a, b, c))]
-                                for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)])
-            uv = self.cameras[name].project(corners)
-            hull = cv2.convexHull(np.rint(uv * 16).astype(np.int32))
-            cv2.fillConvexPoly(drawn, hull, 1, cv2.LINE_8, 4)
-        return drawn
 
 
 def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
@@ -287,12 +227,26 @@ def _replace_structure(boxes: list, named: dict[str, int], group: list[str],
             boxes[i] = None
         if not stray or not _fits(check, boxes, mine, replaced + [
                 (b.position, b.size) for b in stray.values()]):
-            del boxes[first:]
-            for i, b in (*was.items(), *stray.items()):
-                boxes[i] = b
-            return False
+            return _undo(boxes, first, {**was, **stray})
+    # and each block the views could see on its own must be seen: the whole's tolerance
+    # is a share of all its outlines, more than a small block's image (``unshown``)
+    gone = [n for k, n in enumerate(group) if check.unshown(mine[k], [
+        (b.position, b.size) for j, b in enumerate(boxes) if b is not None and j != first + k])]
+    if gone:
+        if unseen is not None:
+            unseen += [n for n in gone if n not in unseen]
+        return _undo(boxes, first, {**was, **stray})
     named.update({n: first + k for k, n in enumerate(group)})
     return True
+
+
+def _undo(boxes: list, first: int, was: Mapping[int, FoundObject]) -> bool:
+    """Take back a trial pose: the boxes from ``first`` on go, the readings in ``was``
+    return. False, for the caller to return."""
+    del boxes[first:]
+    for i, b in was.items():
+        boxes[i] = b
+    return False
 
 
 def _add_hidden(boxes: list, named: dict[str, int], added: list[str],
@@ -311,7 +265,8 @@ def _add_hidden(boxes: list, named: dict[str, int], added: list[str],
             continue
         boxes.append(FoundObject(shape, tuple(map(float, center)), tuple(map(float, size)), 0.0))
         trial = cost()
-        if trial <= base + WORSE_PX:
+        others = [(b.position, b.size) for b in boxes[:-1] if b is not None]
+        if trial <= base + WORSE_PX and not check.unshown((center, size), others):
             named[name], base = len(boxes) - 1, min(base, trial)
             added.append(name)
         else:
