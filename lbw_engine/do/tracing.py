@@ -59,6 +59,7 @@ class TracedOp:
     skipped: str | None = None  # a harmless leaf left out, and why
     # blocks put down first (clearing.py): why, how many commands, which block, where (x, y)
     aside: list[tuple[str, int, str, tuple[float, float]]] = field(default_factory=list)
+    carries: tuple[str, ...] = ()  # blocks riding on the focus when it was traced
 
 
 @dataclass
@@ -267,7 +268,8 @@ def _expand(plan: Plan, rules: CommandRules, model: EnvModel, expander: Expander
                     fine=place.kind if place is not None and place.set_down else None,
                     alignment=place.alignment if place is not None else None,
                     aside=[(note, len(done), name, (spot[0], spot[1]))
-                           for note, done, name, spot in aside])
+                           for note, done, name, spot in aside],
+                    carries=tuple(model.supported_by(focus)) if focus is not None else ())
 
 
 def _place_plan(op: Operator, focus: str, goal: Vec, axis: int, off: float,

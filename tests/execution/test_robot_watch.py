@@ -81,6 +81,19 @@ CASES = [
     pytest.param([P, T, Op(PUSHED, "a", "follow"), Op(PUSHED, "a", "place")],
                  [P, T, Op("PICK", "c", "follow")], [("a", "pushed a", "PICK c")], set(),
                  id="push-of-another-block-is-one"),
+    # a block moved with another riding on it may be seen as the rider's move (helper
+    # round 16, 51): no difference, unless the rider is seen put down elsewhere
+    pytest.param([Op("PICK", "a", "follow", None, frozenset({"c"})),
+                  Op("PLACE-ON-TABLE", "a", "place", (0.0, 100.0), frozenset({"c"}))],
+                 [Op("PICK", "c", "follow"), Op("PLACE-ON-TABLE", "c", "place", (1.0, 99.0))],
+                 [], set(), id="moved-with-a-rider-seen-as-the-rider"),
+    pytest.param([Op("PICK", "a", "follow", None, frozenset({"c"})),
+                  Op("PLACE-ON-TABLE", "a", "place", (0.0, 100.0), frozenset({"c"}))],
+                 [Op("PICK", "c", "follow"),
+                  Op("PLACE-ON-TABLE", "c", "place", (PLACE_MM + 5.0, 100.0))],
+                 [("a", "PLACE-ON-TABLE a at (0, 100)",
+                   f"PLACE-ON-TABLE c at ({PLACE_MM + 5:.0f}, 100)")], {"a"},
+                 id="rider-seen-put-down-elsewhere"),
 ]
 
 
@@ -170,3 +183,18 @@ def test_a_pick_behind_a_taller_tower_is_judged_once_its_spot_shows(tmp_path, ca
     assert report["monitor"]["detections"] == []
     assert report["monitor"]["repairs"] == []
     assert all(o["agree"] for o in report["monitor"]["operations"])
+
+
+def test_a_block_lifted_with_its_rider_is_watched_as_executed():
+    """Helper round 16, 51: the middle cube of a three-cube tower is taken with the top
+    one riding on it. The watch names the move by the top face it sees move, the
+    rider's: two detections and the unit redone in a fault-free run. A move seen as the
+    move of a block riding on the one moved is none (opcheck.differences)."""
+    from lbw_engine.pipeline.run import run
+    from perception.world.scenario import load
+
+    result = run(load(DATA / "middle-cube-lifted-with-its-rider.yaml"))
+    assert result.failure is None, result.failure
+    report = result.execution.report
+    assert report["monitor"]["detections"] == []
+    assert report["verification"] == {"cameras": True, "ground_truth": True}
