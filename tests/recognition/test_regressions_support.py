@@ -91,3 +91,13 @@ def test_a_small_cube_let_down_slanting_in_is_put_on_the_one_below():
     sc, rec, actions = watch_file(DATA / "small-cube-on-small-cube-held-off-p4t3.yaml")
     assert_sequence(sc, actions)
     assert_supports(sc, rec)
+
+
+def test_a_small_cube_set_down_beside_a_small_cube_is_put_on_the_table():
+    """Helper round 16, BE (p47; pixel 4, tremor 3): a 10 mm cube set down 3 mm beside
+    another and slid against it was tracked 7 mm over it 59 mm up, within reach of it,
+    and read as put on it. Near the level's edge the verdict waits for the held block
+    to come within LAND_MM of its top, in both directions (SearchNode._level)."""
+    sc, rec, actions = watch_file(DATA / "small-cube-slid-beside-a-small-cube-p4t3.yaml")
+    assert_sequence(sc, actions)
+    assert_supports(sc, rec)

@@ -32,10 +32,11 @@ SUPPORT_SHARE = 0.3
 # is within DECIDE_MM of that level's top, and is dated back to when the waiting began.
 COMING_MM = 30.0
 DECIDE_MM = 60.0
-# Nor does a centre just outside a level's footprint say "beside it" before the held block
-# has come down to within LAND_MM of its top: the slant goes on below DECIDE_MM, and a
-# 10 mm cube held 9 mm off the one it went on, 57 mm up, was read as put on the table
-# (helper round 15, AM).
+# Nor does a centre near a level's edge (not well inside it) decide either way before the
+# held block has come down to within LAND_MM of its top: the slant goes on below
+# DECIDE_MM, and the tracked hand wanders at pixel 4 / tremor 3. A 10 mm cube held 9 mm
+# off the one it went on, 57 mm up, was read as put on the table (helper round 15, AM);
+# one tracked 7 mm over its neighbour 59 mm up, as put on it (helper round 16, BE).
 LAND_MM = 15.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
 LEVEL_MM = 5.0  # ... and of those, the ones whose tops are this near the highest are as high
@@ -260,11 +261,14 @@ class SearchNode(EnvNodeBase):
 
         A support is under the held block: a block of the level that the held footprint
         does not reach (to within a share of its narrower side) is a neighbour beside the
-        spot (a small cube set down in the gap of a row), not one end of a bridge over it. While the
-        held block is high, its centre must lie well inside the level (by a share of the
-        level's narrower side, at most SUPPORT_TOLERANCE_MM): a hand coming in over a
-        small neighbour passes over it (issue #12). Only a level no wider than the held
+        spot (a small cube set down in the gap of a row), not one end of a bridge over it.
+        While the held block is high, its centre must lie well inside the level (by a share
+        of the level's narrower side, at most SUPPORT_TOLERANCE_MM): a hand coming in over
+        a small neighbour passes over it (issue #12). Only a level no wider than the held
         block asks this: over a wider one (a tower's cube) the hand is where it will land.
+        A centre near the level's edge, outside that margin but within COMING_MM, decides
+        nothing until the held block is within LAND_MM of its top; then within ``reach`` it
+        is on the level, else beside it.
         """
         high = float(held.lo[2]) - top > DECIDE_MM
         reach = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * float(min(held.size[:2])))
@@ -278,9 +282,9 @@ class SearchNode(EnvNodeBase):
         narrow = float(np.min(hi - lo))
         inside = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * narrow) \
             if narrow <= float(min(held.size[:2])) else 0.0
-        if out <= -inside or (out <= reach and not high):
-            return tuple(n.name for n in under)
         landed = float(held.lo[2]) - top <= LAND_MM
+        if out <= -inside or (out <= reach and landed):
+            return tuple(n.name for n in under)
         return WAIT if out <= COMING_MM and not landed else None
 
 
