@@ -50,7 +50,7 @@ class Op:
     at: tuple[float, ...] | None = field(default=None, compare=False)  # where it was put
     # blocks riding on the moved one: the watch may name one of them, whose top face is
     # the one it sees move (helper round 16, 51: a tower's middle cube lifted with the
-    # top one on it was watched as a pick of the top one, and the unit redone)
+    # top one on it was watched as the top one taken, and the unit redone)
     carries: frozenset[str] = field(default=frozenset(), compare=False)
 
     def text(self) -> str:

@@ -44,10 +44,11 @@ NEAR_LIMIT = 160.0  # mm: approach start above the target's top (visual search r
 ENTRY = (-480.0, 200.0, 230.0)  # off the table, where the hand comes from and goes to
 ABSENT = 1.0  # s without the hand at the start and the end (initial/final state views)
 TURN_CLEAR_MM = 10.0  # the fingertips this far above the scene's top when the wrist turns
-# mm: the hand's ceiling, but over a structure too tall for it the fingertips clear its top
-# by TURN_CLEAR_MM (the side view reaches z 400): a hand held under 285 mm swept the top
-# off a 295 mm tower it came to take it from (helper round 15, v64b)
-MAX_Z = 285.0
+# mm: the hand's usual ceiling. Over a structure too tall for it, Transfers and approaches
+# rise until the fingertips clear its top by TURN_CLEAR_MM, up to VIEW_Z (the palm's top is
+# 70 mm above the hand's point, and the side view ends near z 400): a hand held under
+# 285 mm swept the top off a 295 mm stack it came to take it from (helper round 15, v64b)
+MAX_Z, VIEW_Z = 285.0, 330.0
 HOVER = -0.1  # mm: a placed block is let go just touching (the contact slop), no drop
 QUIET = 0.1  # tremor scale during fine motions: the fingers do not shake blocks into others
 STEADY_RAMP_MM, STEADY_ABOVE_MM, BESIDE_MM = 20.0, 5.0, 15.0  # see _beside_top
@@ -141,7 +142,7 @@ class _Planner:
 
     def transfer(self, step: int, p1: Vec3, top: float, action: tuple = ()) -> None:
         """A fast arcing move high over the table (Transfer)."""
-        cruise = max(min(280.0, max(200.0, top + 90.0)), top + TIP + TURN_CLEAR_MM)
+        cruise = min(VIEW_Z, max(min(280.0, max(200.0, top + 90.0)), top + TIP + TURN_CLEAR_MM))
         arc = max(0.0, cruise - max(self.p[2], p1[2]))
         horizontal = math.dist(self.p[:2], p1[:2])
         length = horizontal + 2 * arc + abs(self.p[2] - p1[2])
@@ -161,13 +162,13 @@ class _Planner:
               pre: tuple, fine: list[tuple]) -> None:
         """Transfer above the target, descend to ``grip``, do the fine motions, rise."""
         rise = min(float(self.rng.uniform(100, 140)), NEAR_LIMIT - (grip[2] - target_top),
-                   max(MAX_Z, scene_top + TIP + TURN_CLEAR_MM) - grip[2])
+                   min(VIEW_Z, max(MAX_Z, scene_top + TIP + TURN_CLEAR_MM)) - grip[2])
         above = _add(grip, _add(self.lateral(8, 20), (0, 0, rise)))
         low = self.p[2] - TIP < scene_top + TURN_CLEAR_MM
         if "turn" in pre and low and self.segs[-1].step >= 0:
             # the open fingers turn only above everything: turned 120 mm up beside a 150 mm
             # pillar, they swept it over (helper round 12, 14)
-            up = (self.p[0], self.p[1], scene_top + TIP + TURN_CLEAR_MM)
+            up = (self.p[0], self.p[1], min(VIEW_Z, scene_top + TIP + TURN_CLEAR_MM))
             self.move("depart", self.segs[-1].step, up, V_DEPART)
         self.transfer(step, above, scene_top, pre)
         self.hesitate(step)

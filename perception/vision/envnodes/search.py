@@ -266,9 +266,10 @@ class SearchNode(EnvNodeBase):
         of the level's narrower side, at most SUPPORT_TOLERANCE_MM): a hand coming in over
         a small neighbour passes over it (issue #12). Only a level no wider than the held
         block asks this: over a wider one (a tower's cube) the hand is where it will land.
-        A centre near the level's edge, outside that margin but within COMING_MM, decides
-        nothing until the held block is within LAND_MM of its top; then within ``reach`` it
-        is on the level, else beside it.
+        A held block whose footprint reaches the level (to within ``reach``) with its centre
+        outside that margin but within COMING_MM decides nothing until it is within LAND_MM
+        of the level's top; then a centre within ``reach`` of the level is on it, else
+        beside it. One whose footprint does not reach it waits only while high.
         """
         high = float(held.lo[2]) - top > DECIDE_MM
         reach = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * float(min(held.size[:2])))

@@ -83,7 +83,7 @@ class Silhouettes:
         return drawn
 
     def unshown(self, box: Box, others: Sequence[Box]) -> bool:
-        """Whether a view shows nothing where only ``box`` would be seen: of its silhouette
+        """Whether a view shows mostly dark where only ``box`` would be seen: of its silhouette
         off its one-pixel outline band and off the silhouettes of ``others`` (grown by a
         pixel), at least OWN_PX pixels, more than UNSHOWN_SHARE of them dark. A block
         hidden behind or under others has no such pixels and is not judged; a 15 mm cube
