@@ -202,3 +202,22 @@ def test_an_align_set_down_in_line_is_no_slide():
     fine = [f.operation for op in ground_truth(short, RULES) for f in op.fine]
     assert "ALIGN" not in fine and "ALIGN" in [f.operation for op in ground_truth(sc, RULES)
                                                for f in op.fine]
+
+
+@pytest.mark.parametrize("at,noted", [
+    ((-18, 193), True),   # 2 + 3 mm from its aligned spot: a 3.6 mm slide, under 4 mm
+    ((-12, 200), False),  # 8 + 10 mm: a slide the eye can tell
+], ids=["short-slide-noted", "long-slide-silent"])
+def test_an_align_slide_too_short_to_see_is_noted(at, noted):
+    """Helper round 16, 12: an ``align`` whose block is set down 2-3 mm from its aligned
+    spot is no slide to the eye (rules/constants.yaml align-slide) and was learned as a
+    plain place without a word; `lbw run` and `lbw watch` now say so on stderr."""
+    from lbw_engine.pipeline.watch import slide_notes
+    from perception.world.scenario import load_text
+
+    text = (ROOT / "tests" / "data" / "align-slide-l-brick.yaml").read_text()
+    sc = load_text(text.replace("at: [-18, 193]", f"at: [{at[0]}, {at[1]}]"), "l.yaml")
+    notes = slide_notes(sc, RULES)
+    assert bool(notes) == noted, notes
+    if noted:
+        assert notes[0].startswith("note: line ") and "'b' slides it 3.6 mm" in notes[0]

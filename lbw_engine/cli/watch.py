@@ -14,7 +14,7 @@ from pathlib import Path
 
 from lbw_engine.guard import MAX_FPS, Place, number
 from lbw_engine.outputs import OutputDir
-from lbw_engine.pipeline.watch import repair, watch
+from lbw_engine.pipeline.watch import repair, slide_notes, watch
 from lbw_engine.rules import load_rules
 from lbw_engine.see.actions import to_actions
 
@@ -54,6 +54,8 @@ def run(args: argparse.Namespace) -> int:
 
     for line in repair_lines(actions):
         print(f"lbw watch: {line}")
+    for line in slide_notes(scenario, rules):
+        print(f"lbw watch: {line}", file=sys.stderr)
     problems = []
     if not actions["objects"]:
         problems.append("no objects were located")

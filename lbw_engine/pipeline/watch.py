@@ -41,3 +41,22 @@ def repair(actions: dict[str, Any], rules: Any) -> Any:
     except InputError as exc:
         return Repaired(actions, left=[str(exc)], checked=False)
     return repair_actions(actions, rules)
+
+
+def slide_notes(scenario: Any, rules: Any) -> list[str]:
+    """One line per ``align`` step whose slide is shorter than rules/constants.yaml
+    ``align-slide``: the eye cannot tell it from a place already in line, so it is not
+    learned as a slide, and the user is told (helper round 16: a 2-3 mm slide went
+    unlearned without a word)."""
+    from perception.world.layout import slide_mm
+
+    least = float(rules.constants["align-slide"])
+    out = []
+    for step in scenario.demonstration:
+        mm = slide_mm(step)
+        if mm is not None and mm < least:
+            where = f"line {step.line}: " if step.line else ""
+            out.append(f"note: {where}the align of '{step.obj}' slides it {mm:.1f} mm, under "
+                       f"align-slide ({least:g} mm in constants.yaml): so short a slide "
+                       "cannot be told from a place already in line and is not learned as one")
+    return out

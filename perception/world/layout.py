@@ -279,9 +279,16 @@ def _place(lay: Layout, step: Any, i: int) -> Any:
     return replace(step, dest=dest, final=final)
 
 
+def slide_mm(step: Any) -> float | None:
+    """How far (x, y; mm) a demonstration step's align slides its block from where it is
+    set down; None for a step without an align."""
+    if step.align is None or step.dest is None or step.final is None:
+        return None
+    return math.dist(step.dest[:2], step.final[:2])
+
+
 def slides(step: Any, least: float) -> bool:
     """Whether a demonstration step aligns its block by sliding it at least ``least`` mm
     (x, y) from where it was set down: a shorter one is a place already in line."""
-    if step.align is None or step.dest is None or step.final is None:
-        return False
-    return math.dist(step.dest[:2], step.final[:2]) >= least
+    mm = slide_mm(step)
+    return mm is not None and mm >= least
