@@ -22,7 +22,6 @@ from lbw_engine.pipeline.execute import fault_notes
 from lbw_engine.pipeline.run import publish, repair_lines, verdict_words
 from lbw_engine.pipeline.run import run as run_pipeline
 from lbw_engine.pipeline.watch import slide_notes
-from lbw_engine.rules import load_rules
 
 HELP = "watch a demonstration, learn its plan, execute it in the new layout and verify"
 EXIT_CODES = ("0 success; 1 the task failed: recognition differs from the demonstration, or "
@@ -61,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
           f"({verdict_words(rec)}); outputs in {args.out}")
     for line in repair_lines(result.actions):
         print(f"lbw run: {line}")
-    for line in slide_notes(scenario, load_rules(args.rules)) + fault_notes(
+    for line in slide_notes(scenario, result.rules) + fault_notes(
             result.execution.report if result.execution else {}):
         print(f"lbw run: {line}", file=sys.stderr)
     if not result.success:
