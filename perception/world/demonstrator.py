@@ -142,7 +142,7 @@ class _Planner:
 
     def transfer(self, step: int, p1: Vec3, top: float, action: tuple = ()) -> None:
         """A fast arcing move high over the table (Transfer)."""
-        cruise = min(VIEW_Z, max(min(280.0, max(200.0, top + 90.0)), top + TIP + TURN_CLEAR_MM))
+        cruise = max(min(280.0, max(200.0, top + 90.0)), _over(top))
         arc = max(0.0, cruise - max(self.p[2], p1[2]))
         horizontal = math.dist(self.p[:2], p1[:2])
         length = horizontal + 2 * arc + abs(self.p[2] - p1[2])
@@ -162,13 +162,13 @@ class _Planner:
               pre: tuple, fine: list[tuple]) -> None:
         """Transfer above the target, descend to ``grip``, do the fine motions, rise."""
         rise = min(float(self.rng.uniform(100, 140)), NEAR_LIMIT - (grip[2] - target_top),
-                   min(VIEW_Z, max(MAX_Z, scene_top + TIP + TURN_CLEAR_MM)) - grip[2])
+                   max(MAX_Z, _over(scene_top)) - grip[2])
         above = _add(grip, _add(self.lateral(8, 20), (0, 0, rise)))
         low = self.p[2] - TIP < scene_top + TURN_CLEAR_MM
         if "turn" in pre and low and self.segs[-1].step >= 0:
             # the open fingers turn only above everything: turned 120 mm up beside a 150 mm
             # pillar, they swept it over (helper round 12, 14)
-            up = (self.p[0], self.p[1], min(VIEW_Z, scene_top + TIP + TURN_CLEAR_MM))
+            up = (self.p[0], self.p[1], _over(scene_top))
             self.move("depart", self.segs[-1].step, up, V_DEPART)
         self.transfer(step, above, scene_top, pre)
         self.hesitate(step)
@@ -281,6 +281,11 @@ def _beside_top(lay: Layout, obj: str, dest: Vec3, size: Vec3) -> float | None:
         if all(abs(dest[a] - c[a]) < (size[a] + s[a]) / 2 + BESIDE_MM for a in (0, 1)):
             tops.append(top)
     return max(tops, default=None)
+
+
+def _over(top: float) -> float:
+    """Hand height whose fingertips clear ``top`` by TURN_CLEAR_MM, at most VIEW_Z."""
+    return min(VIEW_Z, top + TIP + TURN_CLEAR_MM)
 
 
 def _scene_top(lay: Layout) -> float:
