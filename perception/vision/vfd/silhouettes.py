@@ -67,7 +67,7 @@ class Silhouettes:
         total = 0
         for name, actual in self.solid.items():
             drawn = self._draw(name, boxes, actual.shape)
-            total += int(cv2.countNonZero(drawn - cv2.erode(drawn, np.ones((3, 3), np.uint8))))
+            total += int(cv2.countNonZero(drawn - cv2.erode(drawn, _PIXEL)))
         return total
 
     def _draw(self, name: str, boxes: Sequence[tuple[Sequence[float], Sequence[float]]],
