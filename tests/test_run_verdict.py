@@ -193,31 +193,66 @@ def test_an_align_set_down_in_line_is_no_slide():
     least = float(RULES.constants["align-slide"])
     sc = load(SCENARIO)
     step = next(s for s in sc.demonstration if s.align)
-    assert slides(step, least) and true_aligns(sc, RULES) == {frozenset({"block1", "block2"})}
-    x, y = step.final[0] + 1.0, step.final[1]
+    pair = {frozenset({"block1", "block2"})}
+    assert slides(step, least) and true_aligns(sc, RULES) == (pair, pair)
+    x, y = step.final[0] + 0.5, step.final[1]
     text = SCENARIO.read_text().replace("at: [-45, 195]", f"at: [{x:.1f}, {y:.1f}]")
     short = load_text(text, "short-slide.yaml")
     step = next(s for s in short.demonstration if s.align)
-    assert not slides(step, least) and true_aligns(short, RULES) == set()
+    assert not slides(step, least) and true_aligns(short, RULES) == (set(), set())
     fine = [f.operation for op in ground_truth(short, RULES) for f in op.fine]
     assert "ALIGN" not in fine and "ALIGN" in [f.operation for op in ground_truth(sc, RULES)
                                                for f in op.fine]
 
 
+@pytest.mark.parametrize("slide,with_align,without", [
+    (0.5, False, True),  # in line: only the plain place is right
+    (2.0, True, True),   # within align-slide-doubt of align-slide: either reading
+    (5.0, True, True),   # (measured 3.0-3.8 mm for a 4-5 mm slide at nominal noise)
+    (8.0, True, False),  # a slide the eye can tell: only the ALIGN is right
+], ids=["in-line", "doubt-under", "doubt-over", "clear-slide"])
+def test_a_slide_in_doubt_is_right_either_way(slide, with_align, without):
+    """A 4 mm slide into contact measured 3.1 mm on every seed, a 5 mm one 3.8 mm on
+    one of three, and `lbw run` failed both: an align within rules/constants.yaml
+    align-slide-doubt of align-slide counts as seen right with or without its ALIGN, in
+    `lbw run`'s verdict and in the bench's align score; outside it, one reading only."""
+    from lbw_engine.cli.benchscore import true_aligns
+    from lbw_engine.see.actions import to_actions
+    from perception.world.oracle import oracle_recognizer
+    from perception.world.scenario import load_text
+
+    sc = load(SCENARIO)
+    step = next(s for s in sc.demonstration if s.align)
+    x, y = step.final[0], step.final[1] + slide  # set down north of contact, slid south
+    text = SCENARIO.read_text().replace("at: [-45, 195]", f"at: [{x:.1f}, {y:.1f}]")
+    sc = load_text(text, "slide.yaml")
+    pair = frozenset({"block1", "block2"})
+    aligned = to_actions(oracle_recognizer(sc, RULES, slide=0.0))
+    plain = to_actions(oracle_recognizer(sc, RULES, slide=1000.0))
+    assert any(f["operation"] == "ALIGN" for op in aligned["operations"] for f in op["fine"])
+    assert not any(f["operation"] == "ALIGN" for op in plain["operations"] for f in op["fine"])
+    assert runmod.compare_with_truth(sc, aligned, RULES)["exact"] == with_align
+    assert runmod.compare_with_truth(sc, plain, RULES)["exact"] == without
+    must, may = true_aligns(sc, RULES)
+    assert (pair in may, pair not in must) == (with_align, without)
+
+
 @pytest.mark.parametrize("at,noted", [
-    ((-18, 193), True),   # 2 + 3 mm from its aligned spot: a 3.6 mm slide, under 4 mm
-    ((-12, 200), False),  # 8 + 10 mm: a slide the eye can tell
-], ids=["short-slide-noted", "long-slide-silent"])
+    ((-20, 190.5), "'b' slides it 0.5 mm, under"),  # in line: no slide to learn
+    ((-18, 193), "'b' slides it 3.6 mm, within 3 mm"),  # 2 + 3 mm: either reading
+    ((-12, 200), None),  # 8 + 10 mm: a slide the eye can tell
+], ids=["in-line-noted", "doubtful-slide-noted", "long-slide-silent"])
 def test_an_align_slide_too_short_to_see_is_noted(at, noted):
     """Helper round 16, 12: an ``align`` whose block is set down 2-3 mm from its aligned
-    spot is no slide to the eye (rules/constants.yaml align-slide) and was learned as a
-    plain place without a word; `lbw run` and `lbw watch` now say so on stderr."""
+    spot was learned as a plain place without a word. `lbw run` and `lbw watch` now say
+    on stderr when a slide is under rules/constants.yaml align-slide (not learned) or
+    within align-slide-doubt of it (learned either way)."""
     from lbw_engine.pipeline.watch import slide_notes
     from perception.world.scenario import load_text
 
     text = (ROOT / "tests" / "data" / "align-slide-l-brick.yaml").read_text()
     sc = load_text(text.replace("at: [-18, 193]", f"at: [{at[0]}, {at[1]}]"), "l.yaml")
     notes = slide_notes(sc, RULES)
-    assert bool(notes) == noted, notes
+    assert len(notes) == (noted is not None), notes
     if noted:
-        assert notes[0].startswith("note: line ") and "'b' slides it 3.6 mm" in notes[0]
+        assert notes[0].startswith("note: line ") and noted in notes[0]

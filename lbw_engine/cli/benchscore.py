@@ -20,14 +20,24 @@ def true_final(scenario: Any, roles: Any) -> set:
     return {f for f in facts if f[0] in moved}
 
 
-def true_aligns(scenario: Any, rules: Any) -> set:
-    """Unordered pairs of the objects the demonstration slid into line (design.md align),
-    by at least rules/constants.yaml ``align-slide``."""
-    from perception.world.layout import slides
+def true_aligns(scenario: Any, rules: Any) -> tuple[set, set]:
+    """(must, may): unordered pairs of the objects the demonstration slid into line (design.md
+    align) that a plan must hold, and those it may hold: a slide of at least
+    rules/constants.yaml ``align-slide`` is an align, one within ``align-slide-doubt`` of it
+    may be learned either way (``slide_reading``)."""
+    from perception.world.layout import slide_reading
 
     least = float(rules.constants["align-slide"])
-    return {frozenset((s.obj, s.align.with_)) for s in scenario.demonstration
-            if slides(s, least)}
+    doubt = float(rules.constants["align-slide-doubt"])
+    must, may = set(), set()
+    for s in scenario.demonstration:
+        need, can = slide_reading(s, least, doubt)
+        pair = frozenset((s.obj, s.align.with_)) if can else None
+        if need:
+            must.add(pair)
+        if can:
+            may.add(pair)
+    return must, may
 
 
 def place_errors(sc: Any, roles: Any, true_ops: list, ops: list[dict[str, Any]]) -> list[float]:

@@ -44,18 +44,28 @@ def repair(actions: dict[str, Any], rules: Any) -> Any:
 
 
 def slide_notes(scenario: Any, rules: Any) -> list[str]:
-    """One line per ``align`` step whose slide is shorter than rules/constants.yaml
-    ``align-slide``: the eye cannot tell it from a place already in line, so it is not
-    learned as a slide, and the user is told (helper round 16: a 2-3 mm slide went
-    unlearned without a word)."""
-    from perception.world.layout import slide_mm
+    """One line per ``align`` step whose slide the eye may not read as the scenario says
+    (rules/constants.yaml ``align-slide``, ``align-slide-doubt``): one shorter than
+    align-slide cannot be told from a place already in line, so it is not learned as a
+    slide (helper round 16: a 2-3 mm slide went unlearned without a word); one within
+    align-slide-doubt of it may be learned either way."""
+    from perception.world.layout import slide_mm, slide_reading
 
     least = float(rules.constants["align-slide"])
+    doubt = float(rules.constants["align-slide-doubt"])
     out = []
     for step in scenario.demonstration:
         mm = slide_mm(step)
-        if mm is not None and mm < least:
-            where = f"line {step.line}: " if step.line else ""
+        if mm is None:
+            continue
+        where = f"line {step.line}: " if step.line else ""
+        must, may = slide_reading(step, least, doubt)
+        if must != may:
+            out.append(f"note: {where}the align of '{step.obj}' slides it {mm:.1f} mm, within "
+                       f"{doubt:g} mm of align-slide ({least:g} mm in constants.yaml, "
+                       "align-slide-doubt): it may be learned as a slide or as a place "
+                       "already in line, and either counts as seen right")
+        elif mm < least:
             out.append(f"note: {where}the align of '{step.obj}' slides it {mm:.1f} mm, under "
                        f"align-slide ({least:g} mm in constants.yaml): so short a slide "
                        "cannot be told from a place already in line and is not learned as one")

@@ -316,6 +316,7 @@ CONSTANTS: dict[str, tuple[str, float, float]] = {
     "hand-velocity-window": ("number", 0.05, 2.0),  # s
     "far-margin": ("number", 5.0, 300.0),  # mm
     "align-slide": ("number", 0.0, 100.0),  # mm
+    "align-slide-doubt": ("number", 0.0, 50.0),  # mm
 }
 
 

@@ -51,11 +51,12 @@ class TrueOperation:
     fine: tuple[TrueFine, ...] = ()
 
 
-def ground_truth(scenario, rules: RuleSet, demonstration: Demonstration | None = None
-                 ) -> list[TrueOperation]:
-    """True operations with times (the demonstrator's schedule) and relations (layouts)."""
+def ground_truth(scenario, rules: RuleSet, demonstration: Demonstration | None = None,
+                 slide: float | None = None) -> list[TrueOperation]:
+    """True operations with times (the demonstrator's schedule) and relations (layouts);
+    ``slide``: the least slide that is an align (default: rules ``align-slide``)."""
     demo = demonstration or Demonstration(scenario)
-    rec = oracle_recognizer(scenario, rules, demo)
+    rec = oracle_recognizer(scenario, rules, demo, slide=slide)
     arrived = [next(s.t1 for s in demo.segments if s.step == i and s.phase == "transfer")
                for i in range(len(scenario.demonstration))]
     layouts: list[Layout] = [scenario.teach.layout(), *scenario.states]

@@ -292,3 +292,14 @@ def slides(step: Any, least: float) -> bool:
     (x, y) from where it was set down: a shorter one is a place already in line."""
     mm = slide_mm(step)
     return mm is not None and mm >= least
+
+
+def slide_reading(step: Any, least: float, doubt: float) -> tuple[bool, bool]:
+    """(must, may): whether the eye must read a demonstration step's align as a slide, and
+    whether it may. A slide within ``doubt`` mm of ``least`` may be read either way (rules
+    ``align-slide-doubt``): must = at least ``least + doubt``, may = at least
+    ``least - doubt``; with no doubt both are ``slides(step, least)``."""
+    mm = slide_mm(step)
+    if mm is None:
+        return False, False
+    return mm >= least + doubt, mm >= least - doubt

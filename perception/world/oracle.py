@@ -217,10 +217,12 @@ ORACLES = {"object-finder": _World, "motion-detector": _World, "hand-tracker": _
 
 
 def oracle_recognizer(scenario: Any, rules: RuleSet, demo: Demonstration | None = None,
-                      fps: float = 30.0) -> Recognizer:
-    """The recognizer run with ``rules`` on the oracle registry over the demonstration."""
+                      fps: float = 30.0, slide: float | None = None) -> Recognizer:
+    """The recognizer run with ``rules`` on the oracle registry over the demonstration;
+    ``slide``: the least slide that is an align (default: rules ``align-slide``)."""
     demo = demo or Demonstration(scenario, fps=fps)
-    steps = _Steps(scenario, demo, float(rules.constants["align-slide"]))
+    least = float(rules.constants["align-slide"]) if slide is None else slide
+    steps = _Steps(scenario, demo, least)
     provided = {name: cls(steps, name) for name, cls in ORACLES.items()}
     recognizer = Recognizer(rules, DetectorRegistry.for_rules(rules, provided))
     n = int(math.floor(demo.duration * fps)) + 1
