@@ -101,3 +101,15 @@ def test_a_small_cube_set_down_beside_a_small_cube_is_put_on_the_table():
     sc, rec, actions = watch_file(DATA / "small-cube-slid-beside-a-small-cube-p4t3.yaml")
     assert_sequence(sc, actions)
     assert_supports(sc, rec)
+
+
+def test_a_plate_carried_in_over_two_of_its_four_posts_waits_for_the_others():
+    """Stop 35: a 190 x 120 plate put on four posts that stand under its edges by 5 mm
+    was carried in 13 mm off its spot, its footprint 18 mm over the two near posts and
+    8 mm short of the far ones; that level (the near two) said "beside it", its centre
+    42 mm outside them, and the place was read as on the table. A held footprint well
+    over some of a level's blocks cannot come down beside them: the level waits
+    (SearchNode._level), until the far posts come under it too."""
+    sc, rec, actions = watch_file(DATA / "plate-on-posts-under-its-edges.yaml")
+    assert_sequence(sc, actions)
+    assert_supports(sc, rec)

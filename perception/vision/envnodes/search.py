@@ -269,7 +269,9 @@ class SearchNode(EnvNodeBase):
         A held block whose footprint reaches the level (to within ``reach``) with its centre
         outside that margin but within COMING_MM decides nothing until it is within LAND_MM
         of the level's top; then a centre within ``reach`` of the level is on it, else
-        beside it. One whose footprint does not reach it waits only while high.
+        beside it. One whose footprint does not reach it waits only while high; one whose
+        footprint lies more than ``reach`` into one of its blocks waits until landed (the
+        level's other blocks, under the far side of a plate, are not under it yet).
         """
         high = float(held.lo[2]) - top > DECIDE_MM
         reach = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * float(min(held.size[:2])))
@@ -286,7 +288,11 @@ class SearchNode(EnvNodeBase):
         landed = float(held.lo[2]) - top <= LAND_MM
         if out <= -inside or (out <= reach and landed):
             return tuple(n.name for n in under)
-        return WAIT if out <= COMING_MM and not landed else None
+        # a footprint well over some of them cannot come down beside them: the supports
+        # on its far side are not under it yet (a plate on four posts, each under one of
+        # its edges by 5 mm, carried in over two of them 13 mm off its spot)
+        deep = min(gaps[n.name] for n in under) < -reach
+        return WAIT if (out <= COMING_MM or deep) and not landed else None
 
 
 def _gap(a: Region3D, b: Region3D) -> float:
