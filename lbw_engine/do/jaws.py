@@ -42,6 +42,16 @@ def too_wide(name: str, size: Vec, rules: CommandRules) -> str:
             "they close")
 
 
+def unmovable(names: Iterable[str], rules: CommandRules, model: EnvModel) -> str | None:
+    """Why the robot cannot do a plan that puts ``names`` somewhere: the first of them (in
+    the model) that no jaw axis takes; None when every one fits."""
+    for name in names:
+        body = model.bodies.get(name)
+        if body is not None and not fitting_axes(body.size, rules):
+            return too_wide(name, body.size, rules) + ", and the plan moves it"
+    return None
+
+
 def tool_point(centre: Vec, size: Vec, axis: int, offset: float, rules: CommandRules) -> Vec:
     """Where the arm's tool point goes to grip an object centred at ``centre``."""
     p = [centre[0], centre[1], centre[2] + rules.grip_offset(size)]

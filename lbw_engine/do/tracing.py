@@ -95,6 +95,10 @@ def trace(plan: Plan, rules: CommandRules, model: EnvModel,
     monitor's expected state after it); ``roots`` traces just those operators,
     in that order (a local repair), instead of the plan's root.
     """
+    why = jaws.unmovable(sorted({r.subject for op in plan.operators.values() for r in op.sc_plus
+                                 if r.type in rules.support_relations}), rules, model)
+    if why is not None:  # said first: a block the jaws cannot take is the root cause
+        raise TaskFailed(why)
     ops: list[TracedOp] = []
     walker = _Walker(plan, rules, model, ops)
     walker.on_operator = on_operator

@@ -113,3 +113,17 @@ def test_a_plate_wider_than_the_jaws_open_is_refused_with_the_reason(tmp_path, c
            "(150 mm with 12 mm to spare) whichever way they close" in err
     report = json.loads((out / "execution.json").read_text())
     assert report["success"] is False and report["failure"].startswith("instantiation: 'p'")
+
+
+def test_a_plan_object_no_grip_takes_is_named_before_the_spot_it_covers(tmp_path, capsys):
+    """Stop 35: the table top a plan puts on its legs is wider than the jaws open either
+    way and lies over two leg spots. The first leg's place failed "the spot is occupied
+    by 't'", hiding why: no grip can take 't', to clear the spot or to build with it."""
+    data = Path(__file__).resolve().parent / "data"
+    out = tmp_path / "out"
+    code = main(["execute", str(data / "wide-top-on-the-leg-spots.plan.json"),
+                 str(data / "wide-top-on-the-leg-spots.yaml"), "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 1 and "Traceback" not in err
+    assert "failed: instantiation: 't' is 190 × 140 mm across, wider than the jaws open " \
+           "(150 mm with 12 mm to spare) whichever way they close, and the plan moves it" in err
