@@ -66,6 +66,9 @@ def anchors(plan: Plan, support: Collection[str]) -> dict[str, tuple[float, ...]
     moved = {r.subject for op in plan.operators.values() for r in op.sc_plus
              if r.type in support}
     taught = taught_positions([r for op in plan.operators.values() for r in op.si], support)
+    for op in plan.operators.values():  # ... or, at an operator's end, relative to a load
+        for name, at in taught_positions(op.si, support, op.sc_plus).items():
+            taught.setdefault(name, at)
     return {n: taught[n] for n in plan_objects(plan) if n not in moved and n in taught}
 
 
@@ -109,7 +112,8 @@ def match_initial_state(
     for i, m in enumerate(measured):
         pool.setdefault(m.shape, []).append(i)
     assigned: dict[str, int] = {}
-    pairs = sorted((math.dist(at[:2], measured[i].position[:2]), name, i)
+    # nearest in 3-D: a support taught on top of a stack takes the top of the stack there
+    pairs = sorted((math.dist(at[:3], measured[i].position[:3]), name, i)
                    for name, at in (anchors or {}).items() if name in relevant
                    and name in taught for i in pool.get(taught[name]["shape"], []))
     for _, name, i in pairs:

@@ -29,26 +29,43 @@ REACH_MM = 5.0  # a placed block is moved at most this far off such a block
 CLEAR_MM = 2.0  # ... to this far beside it (the robot sets blocks down within a mm or so)
 
 
-def taught_positions(si: Sequence[Relation], support: Collection[str]) -> dict[str, Vec]:
+def taught_positions(si: Sequence[Relation], support: Collection[str],
+                     more: Sequence[Relation] = ()) -> dict[str, Vec]:
     """World positions an operator's invariant relations give the objects they support
-    (``:at`` composed along ``:wrt`` down to the table), for the objects they place."""
-    rels = {r.subject: r for r in si if r.type in support and r.at is not None}
+    (``:at`` composed along ``:wrt`` down to the table), for the objects they place.
+
+    ``more``: relations of the operator's end (its SC+): a support relation there places
+    its subject too, and any relation with ``:at`` and ``:wrt`` places its subject
+    relative to that object when the support chain does not reach the table. A lintel's
+    support that the demonstration never moved, standing on a block no operation names,
+    has no chain to the table (c2 on c1, and nothing on where c1 stood): its relation to
+    the lintel it carries places it (helper round 17, u199)."""
+    rels = {r.subject: r for r in [*si, *more] if r.type in support and r.at is not None}
+    others: dict[str, list[Relation]] = {}
+    for r in [*si, *more]:
+        if r.type not in support and r.at is not None and r.wrt not in (None, TABLE):
+            others.setdefault(r.subject, []).append(r)
     out: dict[str, Vec] = {}
 
     def world(name: str, seen: frozenset[str]) -> Vec | None:
         r = rels.get(name)
-        if name in out or r is None or name in seen:
+        if name in out or name in seen:
             return out.get(name)
-        if r.wrt in (None, TABLE):
+        if r is not None and r.wrt in (None, TABLE):
             out[name] = tuple(r.at)
-        else:
-            base = world(r.wrt, seen | {name})
-            if base is None:
-                return None
+            return out[name]
+        base = world(r.wrt, seen | {name}) if r is not None else None
+        if base is not None:
             out[name] = tuple(a + b for a, b in zip(r.at, base, strict=True))
-        return out[name]
+            return out[name]
+        for o in others.get(name, ()):
+            base = world(o.wrt, seen | {name})
+            if base is not None:
+                out[name] = tuple(a + b for a, b in zip(o.at, base, strict=True))
+                return out[name]
+        return None
 
-    for name in rels:
+    for name in [*rels, *others]:
         world(name, frozenset())
     return out
 

@@ -390,7 +390,7 @@ def _goal(source: str, op: Operator, focus: str | None, rules: CommandRules,
     if rel is None:
         return None, 0.0
     goal, moved = placement(rel, focus, rules, model, plan.file, where,
-                            taught_positions(op.si, rules.support_relations), check,
+                            taught_positions(op.si, rules.support_relations, op.sc_plus), check,
                             to_come(plan, focus, rules.support_relations, model))
     found = fine.aligned(op, focus, goal, rules, model)
     if found is not None:  # the demonstrated ALIGN: flush with its partner (fine.py)

@@ -122,6 +122,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     # blocks per shape: the first look's count, or the plan's where it names more
     most = Counter(m.shape for m in measured) | Counter(shape_of.values())
     eyes = Eyes(world, renderer, sc.shapes, shape_of, most)
+    eyes.others = [(b.shape, b.position, b.size) for b in model.bodies.values()
+                   if not b.relevant]
     injector = FaultInjector(world, sc.faults, {n: n for n in world.names})
     watch = RobotWatch(Renderer(default_cameras(), pixel_noise=sc.noise.pixel, seed=sc.seed + 1),
                        sc.shapes, ruleset) if via != "bt" else None

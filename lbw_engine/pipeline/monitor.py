@@ -1,17 +1,16 @@
 """The robot watches itself (Sec. IX-C2): monitored execution, local repair, camera verdicts.
 
-The traced plan is executed one ACHIEVE at a time (lbw_engine.do.monitor).
-After each, the robot steps out of the cameras' view, the world runs briefly
-(a dropped or toppled block comes to rest) and the object-finder measures the
-workspace from the two images; the measured state is compared with the state
-the trace expects after that ACHIEVE; the operations the demonstration's
-recognizer saw the gripper do during it (``robotwatch``) are compared with the
-executed ones (``lbw_engine.do.opcheck``). A difference is a detection; a state
-difference starts a repair: the measured state is matched against the plan
-again and the undone ACHIEVEs are re-traced and executed with the rest, within
-a bounded number of repairs. A place the watch did not see (a drop that landed
-within the cameras' tolerance) is redone too, once per object.
-The same measurement, on the final views, gives the cameras' verdict.
+The traced plan is executed one ACHIEVE at a time (lbw_engine.do.monitor). After each,
+the robot steps out of the cameras' view, the world runs briefly (a dropped or toppled
+block comes to rest) and the object-finder measures the workspace from the two images;
+the measured state is compared with the state the trace expects after that ACHIEVE;
+the operations the demonstration's recognizer saw the gripper do during it
+(``robotwatch``) are compared with the executed ones (``lbw_engine.do.opcheck``). A
+difference is a detection; a state difference starts a repair: the measured state is
+matched against the plan again and the undone ACHIEVEs are re-traced and executed with
+the rest, within a bounded number of repairs. A place the watch did not see (a drop
+that landed within the cameras' tolerance) is redone too, once per object. The same
+measurement, on the final views, gives the cameras' verdict.
 """
 
 from __future__ import annotations
@@ -91,6 +90,8 @@ class Eyes:
         self.finder = ObjectFinder(self.cameras, VisionResources())
         self.last_images: dict | None = None
         self.windows: list[tuple] = []  # the last look's blocks, as image rectangles
+        # unused blocks (shape, centre, size) as last seen: poses a look may try (round 17)
+        self.others: list[tuple] = []
 
     def look(self, expected: Mapping[str, Any]) -> Look:
         """Measure the workspace and name what is seen by the plan objects expected."""
@@ -102,7 +103,10 @@ class Eyes:
         found = sorted(self.finder.find(frame, self.shapes), key=lambda f: f.mismatch)
         want = {n: (self.shape_of[n], p, self.shapes[self.shape_of[n]])
                 for n, p in expected.items()}
-        boxes, named, inferred = explain(self.cameras, images, found, want, self.most)
+        others = {f"{SPARE_PREFIX}{k}": o for k, o in enumerate(self.others)}
+        boxes, named, inferred = explain(self.cameras, images, found, want | others, self.most)
+        named = {n: i for n, i in named.items() if n not in others}
+        inferred = [n for n in inferred if n not in others]
         self.windows = [(cam, _rect(self.cameras[cam], b.position, b.size), "object")
                         for b in boxes for cam in ("top", "side")]
         measured = [Measured(f.shape, tuple(f.position), tuple(f.size)) for f in boxes]
@@ -116,6 +120,8 @@ class Eyes:
         spares = [i for i in range(len(measured)) if i not in named.values()]
         for i in spares:  # objects the plan does not use still count as supports
             states[f"{SPARE_PREFIX}{i}"] = ObjectState(measured[i].position, measured[i].size)
+        self.others = [(measured[i].shape, measured[i].position, measured[i].size)
+                       for i in spares]
         return Look(states, spares, measured, inferred)
 
 

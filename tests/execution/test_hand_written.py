@@ -244,3 +244,22 @@ def test_a_small_cube_taken_off_the_top_of_a_column_is_seen_gone():
     assert result.failure == ("execution: 'm' (execute.objects 'rm') (shape t15) is gone "
                               "and the workspace has no spare t15 to replace it")
     assert result.execution.report["verification"] == {"cameras": False, "ground_truth": False}
+
+
+@pytest.mark.parametrize("scenario", [
+    "lintel-on-a-pillar-and-a-static-stack",
+    "slab-on-a-pillar-and-a-cube-on-a-static-stack",
+    "pillar-set-beside-a-static-stack-and-a-lintel",
+    "lintel-on-two-stacks-one-static",
+])
+def test_a_stack_the_demonstration_never_moved_carries_what_is_built(scenario):
+    """Helper round 17 (u199, u91, u198, u90): a stack stands in the teach layout and its
+    bottom block is in no operation, so no relation says where that block stood, and
+    the stack's top, a support of a lintel, had no taught world position: the lintel
+    went to its taught world spot and slid onto one support; a pillar set beside the
+    stack went to its own taught spot, 150 mm away; the matcher took the execute
+    stack's bottom cube, or a loose one, for the stack's top. Now the top is placed
+    from the load it carries (placement.taught_positions), anchors are matched in
+    3-D, and the monitor's look poses the unused bottom cube where it was last seen
+    (Eyes.others)."""
+    _verified(scenario)
