@@ -163,15 +163,26 @@ def _steps(lo: float, hi: float) -> list[float]:
 def _build_sites(plan: Plan, rules: CommandRules, model: EnvModel,
                  margin: float = BUILD_MARGIN_MM) -> list[tuple[Vec, Vec]]:
     """Boxes around the taught placements in world coordinates, grown by ``margin``: the
-    plan builds there."""
+    plan builds there. A placement relative to a block no operator moves is where that
+    block stands now (a table place kept beside a stack that stays, anchor_table_places)."""
+    moved = {r.subject for op in plan.operators.values() for r in op.sc_plus
+             if r.type in rules.support_relations}
     out = []
     for op in plan.operators.values():
         for r in op.sc_plus:
-            if r.type in rules.support_relations and r.at is not None and \
-                    r.wrt in (None, TABLE) and r.subject in model.bodies:
-                s = model.bodies[r.subject].size
-                grow = 2 * margin
-                out.append(((r.at[0], r.at[1], 150.0), (s[0] + grow, s[1] + grow, 300.0)))
+            if r.type not in rules.support_relations or r.at is None or \
+                    r.subject not in model.bodies:
+                continue
+            if r.wrt in (None, TABLE):
+                at = r.at
+            elif r.wrt in model.bodies and r.wrt not in moved:
+                at = tuple(a + b for a, b in zip(r.at, model.bodies[r.wrt].position,
+                                                 strict=True))
+            else:
+                continue
+            s = model.bodies[r.subject].size
+            grow = 2 * margin
+            out.append(((at[0], at[1], 150.0), (s[0] + grow, s[1] + grow, 300.0)))
     return out
 
 

@@ -20,6 +20,7 @@ from lbw_engine.do.placement import taught_positions
 from lbw_engine.do.plan import Plan
 from lbw_engine.errors import TaskFailed
 from lbw_engine.model.geometry import footprints_meet
+from lbw_engine.names import TABLE
 
 # The table and the hand are instantiated from calibration, never matched (Sec. VII-A 5).
 NOT_MATCHED = frozenset({"table", "hand"})
@@ -82,6 +83,16 @@ def resting(plan: Plan, support: Collection[str]) -> list[tuple[str, str]]:
             and r.subject in names for o in r.objects if o in names]
 
 
+def raised(plan: Plan, support: Collection[str]) -> set[str]:
+    """Plan objects the taught start had resting on a block the plan never names (the top
+    of a stack that stays where it is, helper round 17): not on the table, and not on a
+    plan object (``resting``)."""
+    root = plan.operators[plan.root]
+    names = set(plan_objects(plan))
+    return {r.subject for r in (*root.sc_minus, *root.si) if r.type in support
+            and r.subject in names and any(o not in names and o != TABLE for o in r.objects)}
+
+
 def taught_shapes(plan: Plan, teach_objects: Mapping[str, Mapping]) -> dict[str, dict]:
     """Taught objects {name: {shape, position}}: plan.json's objects, else the scenario's."""
     return dict(plan.objects) if plan.objects is not None else dict(teach_objects)
@@ -93,6 +104,7 @@ def match_initial_state(
     measured: Sequence[Measured],
     anchors: Mapping[str, Sequence[float]] | None = None,
     stacked: Sequence[tuple[str, str]] = (),
+    raised: Collection[str] = (),
 ) -> Matching:
     """Match the plan's objects to measured ones by shape, first come first served.
 
@@ -105,6 +117,8 @@ def match_initial_state(
     pair of their shapes, one lying on the other, goes to them before the rest are
     served: a base taught carrying a rider is matched to a block carrying one, not to
     the rider (generated 3107).
+    ``raised``: objects taught on a block the plan never names (``raised``) take a measured
+    object lying on another where there is one: the stack's top is where it stays.
     Raises TaskFailed naming the first plan object whose shape has no
     (remaining) measured object.
     """
@@ -112,10 +126,18 @@ def match_initial_state(
     for i, m in enumerate(measured):
         pool.setdefault(m.shape, []).append(i)
     assigned: dict[str, int] = {}
+    lying = {i for i, m in enumerate(measured) if any(
+        j != i and _lies_on(m, b) for j, b in enumerate(measured))}
+
+    def fits(name: str, i: int) -> bool:  # a raised object takes a raised one, if any
+        return name not in raised or i in lying or not (
+            lying & set(pool.get(taught[name]["shape"], [])))
+
     # nearest in 3-D: a support taught on top of a stack takes the top of the stack there
     pairs = sorted((math.dist(at[:3], measured[i].position[:3]), name, i)
                    for name, at in (anchors or {}).items() if name in relevant
-                   and name in taught for i in pool.get(taught[name]["shape"], []))
+                   and name in taught for i in pool.get(taught[name]["shape"], [])
+                   if fits(name, i))
     for _, name, i in pairs:
         if name not in assigned and i in pool[taught[name]["shape"]]:
             assigned[name] = i
@@ -142,7 +164,7 @@ def match_initial_state(
             if name not in assigned:
                 assigned[name] = i
                 pool[taught[name]["shape"]].remove(i)
-    for name in relevant:
+    for name in sorted(relevant, key=lambda n: n not in raised):  # the raised ones first
         if name in assigned:
             continue
         if name not in taught:
@@ -158,7 +180,8 @@ def match_initial_state(
             )
         # a block with another lying on it is taken only if no free one is left: the
         # robot would first have to set the other aside (a stack of equal blocks)
-        pick = next((i for i in free if not _covered(i, measured)), free[0])
+        pick = next((i for i in free if fits(name, i) and not _covered(i, measured)),
+                    next((i for i in free if fits(name, i)), free[0]))
         free.remove(pick)
         assigned[name] = pick
     used = set(assigned.values())

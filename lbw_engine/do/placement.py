@@ -88,8 +88,12 @@ def anchor_table_places(plan: Plan, support: Collection[str], fixed: Mapping[str
     under = {r.subject: [o for o in r.objects if o not in NOT_OBJECTS]
              for r in root.si if r.type in support}
 
+    # (a block under it that no operator moves, named by none, stays too: a stack's base)
+    moved = {r.subject for op in plan.operators.values() for r in op.sc_plus
+             if r.type in support}
+
     def carried(name: str, seen: frozenset[str] = frozenset()) -> bool:
-        return any(o not in fixed or (o not in seen and carried(o, seen | {name}))
+        return any(o in moved or (o not in seen and carried(o, seen | {name}))
                    for o in under.get(name, ()))
 
     fixed = {n: at for n, at in fixed.items() if not carried(n)}

@@ -25,6 +25,7 @@ from lbw_engine.do.matching import (
     anchors,
     match_initial_state,
     plan_objects,
+    raised,
     resting,
     taught_shapes,
 )
@@ -105,7 +106,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     try:
         fixed = anchors(plan, rules.support_relations)
         matching = match_initial_state(taught, plan_objects(plan), measured, fixed,
-                                       resting(plan, rules.support_relations))
+                                       resting(plan, rules.support_relations),
+                                       raised(plan, rules.support_relations))
         report["initial_state"]["matching"] = {n: _r(p) for n, p in matching.positions.items()}
         plan = anchor_table_places(plan, rules.support_relations, fixed)
         model = _model(taught, sc.shapes, matching, measured, ruleset)

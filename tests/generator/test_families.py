@@ -190,7 +190,7 @@ def test_bench_rejects_an_unknown_family(tmp_path, capsys):
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.parametrize("family,seed", [("beams", 1006), ("bridge", 1043), ("rearrange", 1083),
+@pytest.mark.parametrize("family,seed", [("beams", 1006), ("bridge", 1000), ("rearrange", 1083),
                                          ("small", 1136)])
 def test_families_draw_touches_with_a_block_in_hand(family, seed):
     """A touch between a pick and its place: the carried block touches the support it is
@@ -206,7 +206,7 @@ def test_families_draw_touches_with_a_block_in_hand(family, seed):
         assert place.on == (touch.obj,)
 
 
-@pytest.mark.parametrize("family,seed", [("bridge", 1001), ("rearrange", 1024),
+@pytest.mark.parametrize("family,seed", [("bridge", 1005), ("rearrange", 1024),
                                          ("three-supports", 1009)])
 def test_families_draw_an_execution_object_lying_on_a_goal_spot(family, seed):
     """Helper round 5 (t15, t29): something lies where the plan builds, and the robot must

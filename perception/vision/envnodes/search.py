@@ -227,8 +227,11 @@ class SearchNode(EnvNodeBase):
         centre just outside a level's footprint decides nothing while the held block is
         still high above it (it may be coming in over it): WAIT.
         """
-        hits = [n for n in env.nodes_intersecting(region.center, region.size)
-                if n.name not in skip]
+        size = region.size if held is None else \
+            np.asarray(region.size) + (2 * SUPPORT_TOLERANCE_MM, 2 * SUPPORT_TOLERANCE_MM, 0.0)
+        # a held block's supports may lie up to the support reach outside its footprint
+        # (a plate's fourth leg under its edge, 1 mm past the tracked footprint: round 17)
+        hits = [n for n in env.nodes_intersecting(region.center, size) if n.name not in skip]
         if not hits:
             return ()
         if held is None:

@@ -84,11 +84,14 @@ def draw(rng: np.random.Generator, family: str) -> Draft:
     picked = [a["obj"] for a in order]
     fixed = {t: b for p in pieces for t, b in p.starts_on.items()}
     layouts = []
+    stay = {n: p.where[n] for p in pieces for n in p.stays if n not in fixed}
     for _ in range(2):  # teach, execute
         stacks = dict(fixed)
         if family == "stacked-start":
             _add_stacks(rng, stacks, picked, objects, shapes)
-        layouts.append(_layout(rng, objects, shapes, stacks, taken))
+        # what stands in the structure from the start is there when taught, anywhere after
+        layouts.append(_layout(rng, objects, shapes, stacks, taken,
+                               {} if layouts else stay))
     steps, touches = _steps(rng, order, layouts[0])
     # drawn from a generator of its own, seeded by the draft: every other draw (and so
     # every scenario the bench drew before this) stays as it was
@@ -200,10 +203,11 @@ def _add_stacks(rng: np.random.Generator, stacks: dict, picked: list[str], objec
 
 
 def _layout(rng: np.random.Generator, objects: dict, shapes: dict, stacks: dict,
-            taken: list) -> dict[str, tuple]:
+            taken: list, stay: dict | None = None) -> dict[str, tuple]:
     """Initial positions: (x, y) on the table, or (base,) for a stack's top (base a name,
-    or two for a top across two blocks: they stand under its ends, INSET_MM in)."""
-    out: dict[str, tuple] = {}
+    or two for a top across two blocks: they stand under its ends, INSET_MM in); ``stay``:
+    objects standing at given spots of the structures' sites (``Piece.stays``)."""
+    out: dict[str, tuple] = dict(stay or {})
     busy = list(taken)
     for top, base in stacks.items():
         if isinstance(base, tuple):  # a deck across two piers: one footprint

@@ -213,12 +213,18 @@ def bridge(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
     p = Piece("bridge")
     levels = 2  # two cubes each: the plank is lifted onto towers, at 80 mm
     d = _ri(rng, 50, 60) * 2
+    # in three draws of eleven the first tower stands from the start and is never moved:
+    # its bottom cube is in no operation (helper round 17, u199; no extra draw)
+    standing = d % 10 == 0
     tops = []
     for t, y in enumerate((-d / 2, d / 2), 1):
         below = "table"
         for k in range(levels):
             name = f"{tag}-t{t}b{k + 1}"
-            p.put(name, below, (0, y) if below == "table" else None, shape=("cube", CUBE))
+            if standing and t == 1:
+                p.stand(name, (0, y), ("cube", CUBE), None if below == "table" else below)
+            else:
+                p.put(name, below, (0, y) if below == "table" else None, shape=("cube", CUBE))
             below = name
         tops.append(below)
     p.put(f"{tag}-plank", tops, shape=("plank", (60, 160, 20)))

@@ -56,6 +56,8 @@ class Piece:
     where: dict[str, tuple[float, float]] = field(default_factory=dict)  # built x, y
     # initial stacks: top -> base, or -> (base, base) for a top across two side by side
     starts_on: dict[str, str | tuple[str, str]] = field(default_factory=dict)
+    # objects that already stand where the structure is built when taught, never picked
+    stays: set[str] = field(default_factory=set)
 
     def size(self, name: str) -> Size:
         """Box size of object ``name``."""
@@ -66,6 +68,16 @@ class Piece:
         if self.shapes.setdefault(shape, size) != size:
             raise ValueError(f"shape {shape!r} drawn with two sizes")
         self.objects[name] = shape
+
+    def stand(self, name: str, xy: tuple[float, float], shape: tuple[str, Size],
+              on: str | None = None) -> None:
+        """``name`` stands at ``xy`` in the teach layout (on ``on``, which stands there)
+        and is never picked: part of the structure from the start (helper round 17)."""
+        self.add(name, *shape)
+        self.where[name] = (float(xy[0]), float(xy[1]))
+        self.stays.add(name)
+        if on is not None:
+            self.starts_on[name] = on
 
     def put(self, name: str, on: str | list[str], at: tuple[float, float] | None = None,
             align: tuple[str, str] | None = None, shape: tuple[str, Size] | None = None
