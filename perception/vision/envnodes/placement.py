@@ -177,6 +177,12 @@ def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float]
         more = [n for n in env.objects() if n.name not in skip and n.position is not None
                 and n.size is not None and abs(n.top() - top) <= CO_LEVEL_MM
                 and _shares(xy, size, n.position, n.size, CO_SUPPORT_SHARE)]
+        if len(meet) < len(targets) and not _carries(meet + more, xy) and \
+                _carries(targets, xy):
+            # its centre off the ones it meets, it could not stand on them: the set-down
+            # point is off (a 120 mm plate measured 18 mm off its four legs under its
+            # edges, generated 1186), not the search
+            return ()
         if len(meet) < len(targets) or more:
             return tuple(n.name for n in meet + more)
         return ()
@@ -186,6 +192,13 @@ def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float]
         return (TABLE,)
     level = max(n.top() for n in below)
     return tuple(n.name for n in below if n.top() >= level - LEVEL_MM)
+
+
+def _carries(nodes: Sequence[EnvNode], xy: Sequence[float]) -> bool:
+    """Whether a load centred at ``xy`` (x, y) lies over the joint footprint of ``nodes``."""
+    lo = np.min([np.asarray(n.position[:2]) - np.asarray(n.size[:2]) / 2 for n in nodes], axis=0)
+    hi = np.max([np.asarray(n.position[:2]) + np.asarray(n.size[:2]) / 2 for n in nodes], axis=0)
+    return bool(np.all(lo <= np.asarray(xy[:2])) and np.all(np.asarray(xy[:2]) <= hi))
 
 
 def _shares(c1: Sequence[float], s1: Sequence[float], c2: Sequence[float],
