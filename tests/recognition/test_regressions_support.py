@@ -126,7 +126,9 @@ def test_a_plate_set_down_off_its_legs_keeps_the_legs_the_search_found():
     stand under its edges, its set-down point measured 18 mm off. The two legs its
     footprint then missed were dropped from the place, though its centre lay off the
     two it met, where it could not have stood (placement.beside_target): the search's
-    four stand. (The environment model's final supports still name the two: open.)"""
-    sc, _, actions = watch_generated(1186, "nominal", family="stacked-start")
+    four stand, and the plate is put the least distance that sets it on all four
+    (placement.onto), as the place's relation and the model's supports then say."""
+    sc, rec, actions = watch_generated(1186, "nominal", family="stacked-start")
     assert_sequence(sc, actions)
     assert_targets(sc, actions)
+    assert_supports(sc, rec)

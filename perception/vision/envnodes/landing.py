@@ -21,6 +21,7 @@ from perception.vision.envnodes.placement import (
     beside_target,
     boxes_but,
     nearer,
+    onto,
     placed_x,
     side_extent_x,
     targets_of,
@@ -68,5 +69,7 @@ def where_placed(node: Any, act: ActView, env: EnvModel, pos: np.ndarray | None,
         return pos, ()  # no height: the search's choice stands
     moving = {held[0].name, *env.supported_by(held[0].name), *env.held()}
     hidden = view == "none"
-    return pos, beside_target(env, targets_of(act, env), pos[:2] if hidden else pos, size,
-                              np.inf if hidden else float(released[1].lo[2]), moving)
+    targets = targets_of(act, env)
+    sup = beside_target(env, targets, pos[:2] if hidden else pos, size,
+                        np.inf if hidden else float(released[1].lo[2]), moving)
+    return (pos if sup else onto(targets, pos, size)), sup

@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from lbw_engine.model.env import EnvModel, EnvNode
-from lbw_engine.model.geometry import footprints_meet, overlap
+from lbw_engine.model.geometry import SUPPORT_OVERLAP_MM, footprints_meet, overlap
 from lbw_engine.names import TABLE
 from lbw_engine.see.detectors import ActView
 from perception.vision.camera import Camera
@@ -192,6 +192,22 @@ def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float]
         return (TABLE,)
     level = max(n.top() for n in below)
     return tuple(n.name for n in below if n.top() >= level - LEVEL_MM)
+
+
+def onto(targets: Sequence[EnvNode], pos: np.ndarray, size: Sequence[float]) -> np.ndarray:
+    """``pos`` moved (x, y) the least that lets a footprint of ``size`` meet every target's
+    (``footprints_meet``), when the search's targets stand against a set-down point that
+    missed some (``beside_target``); as it is when it meets them all or none can."""
+    out = np.array(pos, float)
+    targets = [t for t in targets if t.position is not None and t.size is not None]
+    for k in (0, 1) if targets else ():
+        reach = [(float(t.size[k]) + float(size[k])) / 2 - SUPPORT_OVERLAP_MM - 0.5
+                 for t in targets]
+        lo = max(float(t.position[k]) - r for t, r in zip(targets, reach, strict=True))
+        hi = min(float(t.position[k]) + r for t, r in zip(targets, reach, strict=True))
+        if lo <= hi:
+            out[k] = min(max(out[k], lo), hi)
+    return out
 
 
 def _carries(nodes: Sequence[EnvNode], xy: Sequence[float]) -> bool:
