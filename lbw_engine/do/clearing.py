@@ -26,7 +26,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 from lbw_engine.do import grasp, jaws
-from lbw_engine.do.plan import Plan, Relation, parents
+from lbw_engine.do.plan import Plan, Relation, parents, placed
 from lbw_engine.errors import TaskFailed
 from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import TABLE, TABLE_X, TABLE_Y, Vec, overlap
@@ -165,8 +165,7 @@ def _build_sites(plan: Plan, rules: CommandRules, model: EnvModel,
     """Boxes around the taught placements in world coordinates, grown by ``margin``: the
     plan builds there. A placement relative to a block no operator moves is where that
     block stands now (a table place kept beside a stack that stays, anchor_table_places)."""
-    moved = {r.subject for op in plan.operators.values() for r in op.sc_plus
-             if r.type in rules.support_relations}
+    moved = placed(plan, rules.support_relations)
     out = []
     for op in plan.operators.values():
         for r in op.sc_plus:

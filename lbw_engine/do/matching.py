@@ -17,7 +17,7 @@ from collections.abc import Callable, Collection, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from lbw_engine.do.placement import taught_positions
-from lbw_engine.do.plan import Plan
+from lbw_engine.do.plan import Plan, placed
 from lbw_engine.errors import TaskFailed
 from lbw_engine.model.geometry import footprints_meet
 from lbw_engine.names import TABLE
@@ -64,8 +64,7 @@ def anchors(plan: Plan, support: Collection[str]) -> dict[str, tuple[float, ...]
     """The plan's objects that no operator moves (none gives them a new ``support``
     relation), at the world positions its operators' invariant relations (SI) say they
     stood when taught; those whose position the plan does not record are left out."""
-    moved = {r.subject for op in plan.operators.values() for r in op.sc_plus
-             if r.type in support}
+    moved = placed(plan, support)
     taught = taught_positions([r for op in plan.operators.values() for r in op.si], support)
     for op in plan.operators.values():  # ... or, at an operator's end, relative to a load
         for name, at in taught_positions(op.si, support, op.sc_plus).items():

@@ -17,7 +17,7 @@ from dataclasses import replace
 import networkx as nx
 
 from lbw_engine.do.balance import steadied, volume
-from lbw_engine.do.plan import Plan, Relation
+from lbw_engine.do.plan import Plan, Relation, placed
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import TABLE, Vec, overlap, top
@@ -89,8 +89,7 @@ def anchor_table_places(plan: Plan, support: Collection[str], fixed: Mapping[str
              for r in root.si if r.type in support}
 
     # (a block under it that no operator moves, named by none, stays too: a stack's base)
-    moved = {r.subject for op in plan.operators.values() for r in op.sc_plus
-             if r.type in support}
+    moved = placed(plan, support)
 
     def carried(name: str, seen: frozenset[str] = frozenset()) -> bool:
         return any(o in moved or (o not in seen and carried(o, seen | {name}))

@@ -11,6 +11,7 @@ operators; relations have the form
 from __future__ import annotations
 
 import re
+from collections.abc import Collection
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -223,6 +224,13 @@ def parents(plan: Plan) -> dict[str, str]:
     """Operator -> the operator whose plot holds it."""
     return {child: name for name, op in plan.operators.items()
             for child in action_names(op.plot) if child in plan.operators}
+
+
+def placed(plan: Plan, support: Collection[str]) -> set[str]:
+    """The objects some operator gives a new ``support`` relation (SC+): those the plan
+    moves; every other object stays where it starts."""
+    return {r.subject for op in plan.operators.values() for r in op.sc_plus
+            if r.type in support}
 
 
 def _objects(objects: Any, fail) -> None:

@@ -13,7 +13,7 @@ from collections.abc import Callable, Sequence
 from lbw_engine.do import clearing, grasp, jaws
 from lbw_engine.do.expander import Command, Context, Expander
 from lbw_engine.do.placement import mm, occupants
-from lbw_engine.do.plan import Plan
+from lbw_engine.do.plan import Plan, placed
 from lbw_engine.errors import TaskFailed
 from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import Vec, footprints_meet, top
@@ -168,8 +168,7 @@ def trapped(plan: Plan, rules: CommandRules, goal: Vec, focus: str, model: EnvMo
     later, or does not use; a block the plan leaves standing under its structure stays."""
     size = model.bodies[focus].size
     bottom = goal[2] - size[2] / 2.0 - rules.release_clearance
-    placed_later = {r.subject for op in plan.operators.values() for r in op.sc_plus
-                    if r.type in rules.support_relations}
+    placed_later = placed(plan, rules.support_relations)
     riding = set(model.supported_by(focus))
     out = []
     for name, b in model.bodies.items():

@@ -33,7 +33,7 @@ from lbw_engine.do.expander import Command, Context, Expander
 from lbw_engine.do.fine import Alignment, PlacePlan
 from lbw_engine.do.ordering import feasible_order
 from lbw_engine.do.placement import NOT_OBJECTS, mm, placement, taught_positions, to_come
-from lbw_engine.do.plan import Operator, Plan, action_names
+from lbw_engine.do.plan import Operator, Plan, action_names, placed
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import EnvModel
 from lbw_engine.model.geometry import Vec
@@ -95,8 +95,7 @@ def trace(plan: Plan, rules: CommandRules, model: EnvModel,
     monitor's expected state after it); ``roots`` traces just those operators,
     in that order (a local repair), instead of the plan's root.
     """
-    why = jaws.unmovable(sorted({r.subject for op in plan.operators.values() for r in op.sc_plus
-                                 if r.type in rules.support_relations}), rules, model)
+    why = jaws.unmovable(sorted(placed(plan, rules.support_relations)), rules, model)
     if why is not None:  # said first: a block the jaws cannot take is the root cause
         raise TaskFailed(why)
     ops: list[TracedOp] = []
