@@ -31,12 +31,11 @@ def true_aligns(scenario: Any, rules: Any) -> tuple[set, set]:
     doubt = float(rules.constants["align-slide-doubt"])
     must, may = set(), set()
     for s in scenario.demonstration:
-        need, can = slide_reading(s, least, doubt)
-        pair = frozenset((s.obj, s.align.with_)) if can else None
-        if need:
-            must.add(pair)
+        need, can = slide_reading(s, least, doubt)  # need implies can
         if can:
-            may.add(pair)
+            may.add(frozenset((s.obj, s.align.with_)))
+        if need:
+            must.add(frozenset((s.obj, s.align.with_)))
     return must, may
 
 

@@ -80,9 +80,11 @@ def compare_with_truth(scenario: Any, actions: dict[str, Any], rules: RuleSet
     """The recognized top-level sequence against the ground truth (evaluation only): what
     the same rules make of perfect detectors (perception.world.groundtruth)."""
     from lbw_engine.report.metrics import compare_sequence
+    from perception.world.demonstrator import Demonstration
     from perception.world.groundtruth import ground_truth
 
-    truth = ground_truth(scenario, rules)
+    demo = Demonstration(scenario)  # one schedule for every reading of the truth below
+    truth = ground_truth(scenario, rules, demo)
     expected = [op.operation for op in truth]
     recognized = [op["operation"] for op in actions["operations"]]
     # The bench's definition (lbw_engine/report/metrics.py): a repeated closing
@@ -97,9 +99,10 @@ def compare_with_truth(scenario: Any, actions: dict[str, Any], rules: RuleSet
 
     least = float(rules.constants["align-slide"])
     doubt = float(rules.constants["align-slide-doubt"])
-    if any(len(set(slide_reading(s, least, doubt))) > 1 for s in scenario.demonstration):
-        out["fine_at_least"] = _fine(ground_truth(scenario, rules, slide=least + doubt), rules)
-        out["fine_at_most"] = _fine(ground_truth(scenario, rules, slide=max(0.0, least - doubt)),
+    if any(must != may for must, may in (slide_reading(s, least, doubt)
+                                         for s in scenario.demonstration)):
+        out["fine_at_least"] = _fine(ground_truth(scenario, rules, demo, least + doubt), rules)
+        out["fine_at_most"] = _fine(ground_truth(scenario, rules, demo, max(0.0, least - doubt)),
                                     rules)
     return with_fine(out, actions["operations"], rules)
 
