@@ -13,7 +13,6 @@ name is the nearest size in the shape database.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
 from functools import cached_property
 
 import cv2
@@ -26,28 +25,26 @@ from perception.vision.vfd.base import DARK_MAX, VFD
 from perception.vision.vfd.objects_columns import Columns
 from perception.vision.vfd.objects_hidden import unseen_heights
 from perception.vision.vfd.objects_legs import legs_under
-from perception.vision.vfd.objects_match import SilhouetteCheck, assign, frames, nearest
+from perception.vision.vfd.objects_match import (
+    STACK_MISMATCH_MM,
+    FoundObject,
+    SilhouetteCheck,
+    assign,
+    frames,
+    nearest,
+)
+from perception.vision.vfd.objects_restack import restack
+from perception.vision.vfd.objects_stacks import hidden_stack
 
 TOP_MIN = 240  # block top faces are drawn at 255, the other faces at most 205
 COARSE = 4  # subsampling of the first, coarse look
 MIN_FACE_PX = 6
-STACK_MISMATCH_MM = 8.0  # a column this far from every shape may be a stack of two
 MIN_SCORE = 0.25  # correspondence score (IoU x solid fraction) taken as a match
 CANDIDATES = 3  # side top faces refined per top-view face
 # A lower face under this share of a column's extent on both axes is its support, though
 # the column's centre lie past its edge (a cube pushed half off a plank's back edge, fault
 # seed 3001: read from the table up, 110 mm tall, it was dropped and "gone")
 SUPPORT_SHARE = 0.25
-
-
-@dataclass(frozen=True)
-class FoundObject:
-    """A block recognized in the initial state."""
-
-    shape: str
-    position: tuple[float, float, float]  # box centre, mm
-    size: tuple[float, float, float]  # measured extents, mm
-    mismatch: float  # mm, summed |measured - database size|
 
 
 class ObjectFinder(VFD):
@@ -182,8 +179,8 @@ class ObjectFinder(VFD):
                 framing |= set(parts[1:])
                 continue
             single, base = column(k)
-            stack = self._hidden_stack(single, base, boxes[k][1][1], side_img, shapes, rim,
-                                       boxes[k][2], better=True)
+            stack = hidden_stack(self.cameras["side"], self.footprint, single, base,
+                                 boxes[k][1][1], side_img, shapes, rim, boxes[k][2], better=True)
             if stack:
                 split[k] = stack
                 framing |= set(parts)
@@ -195,8 +192,10 @@ class ObjectFinder(VFD):
                 found.extend(split[k])
                 continue
             single, base = column(k)
-            stack = self._hidden_stack(single, base, boxes[k][1][1], side_img, shapes,
-                                       rings.get(k), boxes[k][2])
+            # a column that fits a shape is still two blocks where a seam crosses it
+            stack = hidden_stack(self.cameras["side"], self.footprint, single, base,
+                                 boxes[k][1][1], side_img, shapes, rings.get(k), boxes[k][2],
+                                 seamed=k not in rings and single.mismatch < STACK_MISMATCH_MM)
             if not stack and single.mismatch >= STACK_MISMATCH_MM:
                 stack = [FoundObject(*r) for r in legs_under(
                     self.cameras["side"], side_img, single, base, boxes[k][1][1], shapes,
@@ -211,6 +210,14 @@ class ObjectFinder(VFD):
         self._target = np.array([f.position for f in found]) if found else None
         return found
 
+    def restack(self, frame: Frame, found: Sequence[FoundObject], needs: Mapping[str, int],
+                shapes: Mapping[str, Sequence[float]]) -> list[FoundObject]:
+        """``found`` with blocks read again as stacks of the shapes a task ``needs`` and the
+        finder did not see, where the side view leaves their seams possible
+        (objects_restack)."""
+        return restack(self.cameras["side"], self._read_full("side", frame.side), found,
+                       needs, shapes)
+
     def _read_full(self, cam: str, image: np.ndarray) -> np.ndarray:
         """The whole image of camera ``cam``, read through a resource window."""
         (w, h) = self.cameras[cam].size
@@ -219,117 +226,6 @@ class ObjectFinder(VFD):
             return win.read(image)
         finally:
             self.resources.free(win)
-
-    def _hidden_stack(self, obj: FoundObject, base: float, front: float, side: np.ndarray,
-                      shapes: Mapping[str, Sequence[float]], ring=None, face=None,
-                      better: bool = False, x_seen: bool = True, above=None
-                      ) -> list[FoundObject] | None:
-        """Two stacked blocks where the top view shows at most a thin ring of the lower one.
-
-        The column under the top face is then too tall for any shape. The side view
-        shows a crease line across the front at the seam; the lower block's width
-        comes from its front face there (or from the ring's outline), and the shape
-        database gives the pair that explains the column best. ``better``: only a pair
-        that fits the shapes better than the column (a ring that may not be one).
-        ``x_seen``: ``obj``'s x is its top face's; else (the lower part of a stack read
-        from a ring lifted to the wrong height) the upper block's x comes from its front
-        face too.
-        """
-        sx, sy, sz = obj.size
-        if (obj.mismatch < STACK_MISMATCH_MM and ring is None) or not shapes:
-            return None
-        cam = self.cameras["side"]
-        cx, cy = obj.position[:2]
-        best = None
-        for top_name, (tx, ty, tz) in shapes.items():
-            # ``above``: the footprint of a block on this column, which hides a block as
-            # wide as it but for a ring too thin to see: only its front face shows how
-            # wide it is (a 50 mm slab between 40 mm cubes, helper round 11, 44)
-            hidden = above is not None and rims.inside_thin_ring(above, (tx, ty))
-            if abs(tx - sx) + abs(ty - sy) <= STACK_MISMATCH_MM:
-                tx, ty = sx, sy  # the measured face is the upper block's own
-            elif not hidden and not rims.inside_thin_ring((tx, ty), (sx, sy)):
-                continue  # else the face is the outline of thin rings around it
-            rest = sz - tz
-            seam = base + rest
-            if rest < 5.0 or not rims.crease_at(cam, side, (cx, front, seam)):
-                continue
-            lows = []  # (name, centre x y, size, mismatch, from the ring)
-            if ring is not None:  # the lower block's outline is the ring's, or shows in it
-                done = rims.complete_rim(self.footprint(ring, seam), rims.cover_of(
-                    obj, self.footprint(face, seam)), (cx, cy), rest, shapes,
-                    STACK_MISMATCH_MM)
-                if done is not None:
-                    lows.append((done[0], done[1], np.array([*done[2], rest]), done[3], True))
-            # Or from the front face's width: halfway up the rest; when that is a seam (the
-            # rest is itself two blocks of one height: a user's three-high stack, helper
-            # s17) a quarter below the top of the rest, then a quarter above its bottom.
-            # Halfway first: a quarter below the top first misread bench 1070's stack at
-            # 2x. A ring may be the sliver of a middle block's (bench 3119 at 4x).
-            # A row within a pixel of a seam is cut short by its crease (the 40 mm block
-            # on a 30 mm one under a 50 mm top read 21 mm: round 13, 07): rows clear of
-            # creases first; eighths too, for a rest of four (a five-high stack of equal
-            # cubes has a seam at each quarter: round 15, v64d).
-            zs = [base + f * rest for f in (0.5, 0.75, 0.25, 0.375, 0.625, 0.125, 0.875)]
-            zs.sort(key=lambda z: rims.crease_at(cam, side, (cx, front, z)))
-            run = next((r for z in zs if (r := rims.width_at(cam, side, (cx, front, z)))
-                        is not None), None)
-            if run is not None:
-                width, mid = run
-                # wider than what the upper block hides from above: its top would show
-                c0, d0, c1, d1 = rims.cover_of(obj, self.footprint(face, seam))
-                # a rest no shape is as tall as is a stack itself, split again below:
-                # its width alone names it (three 40 mm cubes stacked, generated
-                # stacked-start 1012: the two under the top one were called a brick)
-                tall = all(abs(v[2] - rest) > STACK_MISMATCH_MM for v in shapes.values())
-                # along each axis no wider than a ring too thin to see: a 30 x 40 post
-                # under a 40 x 30 lid shows 5 mm strips along y only (generated 5143)
-                fits = {n: abs(lx - width) + (0.0 if tall else abs(lz - rest))
-                        for n, (lx, ly, lz) in shapes.items()
-                        if rims.thin_rings_only((max(sx, c1 - c0), max(sy, d1 - d0)), (lx, ly))}
-                if fits:
-                    n = min(fits, key=fits.get)
-                    # x from the front face: the upper block may stand off-centre
-                    lows.append((n, (mid, cy), np.array([width, shapes[n][1], rest]),
-                                 fits[n], False))
-            # The upper block's own front face, halfway up it, must be as wide as it: a
-            # face whose outline is a lower block's (its ring merged in) fits both an
-            # upper block as wide and one inside the ring (helper v17c: 50, 40 and 30 mm
-            # blocks stacked, the middle one named 50 mm)
-            up = rims.width_at(cam, side, (cx, front, seam + tz / 2.0)) if lows else None
-            for low_name, low_at, low_size, low_err, of_ring in lows:
-                if hidden and (tx, ty) != (sx, sy):
-                    if up is None:
-                        continue
-                    face_err = 0.0  # its front face's width (below) is all there is
-                elif not of_ring and (tx, ty) != (sx, sy):
-                    # The face measured is the thin rings' outer edge, the lower block's
-                    # outline: that is what it must match, not the upper block hidden
-                    # inside (a cube in a block's 5 mm ring paid the 10 mm ring twice and
-                    # lost to a block on a cube: rearrange 1141, 1214).
-                    face_err = abs(shapes[low_name][0] - sx) + abs(shapes[low_name][1] - sy)
-                else:
-                    face_err = abs(tx - sx) + abs(ty - sy)
-                err = face_err + low_err + (abs(up[0] - tx) if up is not None else 0.0)
-                if best is None or err < best[0]:
-                    best = (err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam, up)
-        if best is None or ((ring is None or better) and best[0] >= obj.mismatch):
-            return None
-        err, top_name, (tx, ty, tz), low_name, low_size, low_at, seam, up = best
-        low = FoundObject(low_name, (float(low_at[0]), float(low_at[1]), base + low_size[2] / 2),
-                          tuple(float(v) for v in low_size), err)
-        up_x = up[1] if not x_seen and up is not None else cx
-        top = FoundObject(top_name, (up_x, cy, seam + tz / 2.0), (tx, ty, base + sz - seam), err)
-        # The lower piece may be a stack itself (three blocks, each ring too thin to see):
-        # split it again where its own column fits no shape.
-        low_fit = nearest(shapes, np.array(low.size))[1]
-        # its seams are on its own front face, behind a wider block's above it (two cubes
-        # under a slab that overhangs them by 20 mm, helper round 6's e07)
-        deeper = None if low_fit < STACK_MISMATCH_MM else self._hidden_stack(
-            replace(low, mismatch=low_fit), base, max(front, low.position[1] - low.size[1] / 2),
-            side, shapes, None, face if ring is None else ring, x_seen=ring is None and x_seen,
-            above=(tx, ty))
-        return [*(deeper or [low]), top]
 
     def smallest_face_px(self, shapes: Mapping[str, Sequence[float]]) -> float:
         """Side (px) of the smallest top face the database allows, on the table in the top

@@ -15,6 +15,7 @@ alternatives that reproduce them better replace the greedy choice.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
@@ -22,6 +23,17 @@ import numpy as np
 Candidate = tuple[float, float, int]  # (score, height mm, side-view face label)
 AMBIGUOUS = 0.15  # a candidate this close to a face's best score is a real alternative
 MIN_GAIN_PX = 12  # fewer wrong pixels than this is not evidence (edges, occlusion)
+STACK_MISMATCH_MM = 8.0  # a column this far from every shape may be a stack of two
+
+
+@dataclass(frozen=True)
+class FoundObject:
+    """A block recognized in the initial state."""
+
+    shape: str
+    position: tuple[float, float, float]  # box centre, mm
+    size: tuple[float, float, float]  # measured extents, mm
+    mismatch: float  # mm, summed |measured - database size|
 
 
 def greedy(cands: Sequence[Sequence[Candidate]], forced: dict[int, Candidate]

@@ -1,0 +1,112 @@
+"""A column read again as a stack when the blocks a task needs are missing (Sec. VII-A).
+
+Two blocks of one footprint stacked are told from one tall block by the seam
+across their front face (objects_stacks). A taller block standing in front can
+hide that seam from the elevated side camera, and the top view shows only the
+stack's top: the two views then fit a single block of the stack's size as well
+as the stack (generated twins 1271, 2x: two 40 mm cubes behind a 40 x 40 x 80
+column read as a second column). Only knowledge outside the images tells them
+apart. When the task asks for blocks the finder did not see, and a block of a
+shape it saw more of than the task needs is as large as a stack of the missing
+ones, ``restack`` reads it as that stack, provided the side view does not show
+its front face whole and unbroken where each seam would be.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Mapping, Sequence
+from itertools import product
+
+import numpy as np
+
+from perception.vision.vfd import objects_rings as rims
+from perception.vision.vfd.objects_match import STACK_MISMATCH_MM, FoundObject
+from perception.vision.vfd.objects_stacks import seam_across
+
+MOST_PIECES = 3  # stacks of up to this many blocks are tried
+
+
+def restack(cam, side: np.ndarray, found: Sequence[FoundObject],
+            needs: Mapping[str, int], shapes: Mapping[str, Sequence[float]]
+            ) -> list[FoundObject]:
+    """``found`` with surplus blocks read as stacks of the shapes ``needs`` lacks, while
+    any lack remains and such a reading exists; else ``found`` as it is."""
+    out = list(found)
+    while True:
+        have = Counter(f.shape for f in out)
+        short = Counter({s: n - have[s] for s, n in needs.items() if n > have[s]})
+        if not short:
+            return out
+        best = None
+        for k, f in enumerate(out):
+            if have[f.shape] <= needs.get(f.shape, 0):
+                continue  # the task needs every block of this shape that was seen
+            for names in _stacks(f, short, shapes):
+                err = _fit(f, names, shapes)
+                if (best is None or err < best[0]) and all(
+                        _seam_unseen(cam, side, f, z) for z in _seams(f, names, shapes)):
+                    best = (err, k, names)
+        if best is None:
+            return out
+        _, k, names = best
+        out[k:k + 1] = _pieces(out[k], names, shapes)
+
+
+def _stacks(f: FoundObject, short: Counter, shapes: Mapping[str, Sequence[float]]
+            ) -> list[tuple[str, ...]]:
+    """Bottom-to-top shape sequences of 2..MOST_PIECES missing shapes, each as wide as
+    ``f`` and together as tall (within STACK_MISMATCH_MM)."""
+    fitting = [s for s in short if abs(shapes[s][0] - f.size[0]) + abs(shapes[s][1] - f.size[1])
+               <= STACK_MISMATCH_MM]
+    out = []
+    for n in range(2, MOST_PIECES + 1):
+        for names in product(fitting, repeat=n):
+            if any(Counter(names)[s] > short[s] for s in names):
+                continue
+            if abs(sum(shapes[s][2] for s in names) - f.size[2]) <= STACK_MISMATCH_MM:
+                out.append(names)
+    return out
+
+
+def _fit(f: FoundObject, names: Sequence[str], shapes: Mapping[str, Sequence[float]]) -> float:
+    """How far the stack ``names`` is from ``f``'s measured size (mm, summed)."""
+    return sum(abs(shapes[s][0] - f.size[0]) + abs(shapes[s][1] - f.size[1]) for s in names) \
+        / len(names) + abs(sum(shapes[s][2] for s in names) - f.size[2])
+
+
+def _seams(f: FoundObject, names: Sequence[str], shapes: Mapping[str, Sequence[float]]
+           ) -> list[float]:
+    """Heights (mm) of the seams between the blocks ``names`` stacked from ``f``'s base."""
+    z = f.position[2] - f.size[2] / 2.0
+    out = []
+    for s in names[:-1]:
+        z += shapes[s][2]
+        out.append(z)
+    return out
+
+
+def _pieces(f: FoundObject, names: Sequence[str], shapes: Mapping[str, Sequence[float]]
+            ) -> list[FoundObject]:
+    """The blocks ``names`` stacked on ``f``'s base under its top face's centre."""
+    z = f.position[2] - f.size[2] / 2.0
+    out = []
+    for s in names:
+        size = tuple(float(v) for v in shapes[s])
+        out.append(FoundObject(s, (f.position[0], f.position[1], z + size[2] / 2.0), size,
+                               _fit(f, names, shapes)))
+        z += size[2]
+    return out
+
+
+def _seam_unseen(cam, side: np.ndarray, f: FoundObject, z: float) -> bool:
+    """Whether the side view leaves a seam at height ``z`` possible on ``f``'s front face:
+    it shows one, or something in front hides the face there. The face shown whole and
+    as wide as ``f`` a pixel above and below, with no crease between, rules it out."""
+    front = f.position[1] - f.size[1] / 2.0
+    if seam_across(cam, side, f, front, z):
+        return True
+    mm = 1.0 / max(1e-6, cam.mm_to_px((f.position[0], front, z)))
+    rows = [rims.width_at(cam, side, (f.position[0], front, z + d * mm)) for d in (-1, 0, 1)]
+    whole = all(r is not None and abs(r[0] - f.size[0]) <= STACK_MISMATCH_MM for r in rows)
+    return not (whole and not rims.crease_at(cam, side, (f.position[0], front, z), reach=0))
