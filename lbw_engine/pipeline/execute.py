@@ -93,7 +93,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     world.settle(0.5)
     renderer = Renderer(default_cameras(), pixel_noise=sc.noise.pixel, seed=sc.seed)
     views = {"execution-initial": renderer.render(world.scene())}
-    measured, source = measure_initial_state(world, sc, views["execution-initial"])
+    measured, source = measure_initial_state(world, sc, views["execution-initial"],
+                                             Counter(t["shape"] for t in taught.values()))
     start = world.positions()
     errors = [min(math.dist(m.position, p) for p in start.values()) for m in measured]
     report: dict[str, Any] = {
@@ -287,11 +288,14 @@ def _taught(plan: Plan, sc: Any) -> dict[str, dict]:
     return taught
 
 
-def measure_initial_state(world: Any, sc: Any, images: dict) -> tuple[list[Measured], str]:
+def measure_initial_state(world: Any, sc: Any, images: dict, needs: Counter | None = None
+                          ) -> tuple[list[Measured], str]:
     """The execution workspace's objects as the object-finder sees them (Sec. VII-A 3).
 
     The finder reads only the two camera images; the world is passed for the
-    report's ground-truth comparison, never to the finder.
+    report's ground-truth comparison, never to the finder. ``needs`` (shape -> count,
+    the plan's objects): a block of a shape seen more often than needed may be read as
+    a stack of needed shapes the finder missed, where the images allow it.
     """
     from perception.vision.camera import default_cameras
     from perception.vision.frames import Frame
@@ -302,7 +306,10 @@ def measure_initial_state(world: Any, sc: Any, images: dict) -> tuple[list[Measu
     frame = Frame(0, world.time, images["top"], images["side"])
     # Best-fitting first: matching is first come first served, so the surest
     # measurement of a shape is used first and doubtful extra ones are left over.
-    found = sorted(finder.find(frame, sc.shapes), key=lambda f: f.mismatch)
+    found = finder.find(frame, sc.shapes)
+    if needs:
+        found = finder.restack(frame, found, needs, sc.shapes)
+    found = sorted(found, key=lambda f: f.mismatch)
     return [Measured(f.shape, tuple(f.position), tuple(f.size)) for f in found], "object-finder"
 
 

@@ -20,7 +20,7 @@ DATA = Path(__file__).resolve().parent / "data"
 RULES = load_rules()
 
 
-def _measured_truly(world, sc, images):
+def _measured_truly(world, sc, images, needs=None):
     """The execution workspace as it is (evaluation's ground truth), names dropped."""
     shape = {n: o.shape for n, o in sc.execute.objects.items()}
     pos = world.positions()
