@@ -305,11 +305,17 @@ def twins(rng: np.random.Generator, tag: str, along_x: bool) -> Piece:
 
 def _carry(p: Piece, rng: np.random.Generator, tag: str) -> Piece:
     """A base moved with its rider on it: an equal cube, or a 30 x 40 block under a
-    40 x 30 one."""
+    40 x 30 one. Half the equal cubes have a column as tall as the two beside them, set
+    down after: the stack then fits a listed shape (helper round 17, u97, u98); drawn
+    from a generator of its own, so the other drafts stay as they were."""
     base, rider = f"{tag}-base", f"{tag}-rider"
-    if rng.random() < 0.5:
+    draw = rng.random()
+    if draw < 0.5:
         p.add(base, "cube", CUBE)
         p.add(rider, "cube", CUBE)
+        if np.random.default_rng(zlib.crc32(f"{tag}{draw}".encode())).random() < 0.5:
+            p.add(f"{tag}-column", "column", (CUBE[0], CUBE[1], 2 * CUBE[2]))
+            p.put(f"{tag}-column", "table", (0, CUBE[1] + 24))
     else:
         p.add(base, "post", (30, 40, _ri(rng, 30, 40)))
         p.add(rider, "lid", (40, 30, _ri(rng, 15, 20)))
