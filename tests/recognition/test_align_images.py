@@ -92,8 +92,14 @@ def test_a_block_set_on_one_of_its_own_size_is_no_align():
     ("align-a-long-block-west-7mm.yaml", [["NO-OP"], ["ALIGN"]]),
     # set down flush on the named face, slid 6 mm into contact: coplanar at both ends
     ("align-flush-then-slid-into-contact.yaml", [["NO-OP"], ["ALIGN"]]),
+    # slid along a 120 mm tower in front, which hides the fingers from the side camera:
+    # x, y from the top view's palm (HandState.held_box, above)
+    ("align-behind-a-120mm-tower.yaml", [["NO-OP"], ["ALIGN"]]),
+    # slid into line with a 120 mm tower's north face, measured 7 mm from it (CONTACT_MM)
+    ("align-north-beside-a-120mm-tower.yaml", [["NO-OP"], ["ALIGN"]]),
 ], ids=["8mm-slide", "measured-into-its-neighbour", "jaws-across-the-camera",
-        "behind-a-block", "two-faces-of-one-block", "long-block-7mm", "flush-then-into-contact"])
+        "behind-a-block", "two-faces-of-one-block", "long-block-7mm", "flush-then-into-contact",
+        "behind-a-tall-tower", "beside-a-tall-tower"])
 def test_a_slide_into_line_is_an_align(name, aligns):
     sc, _, actions = watch_file(DATA / name)
     assert_sequence(sc, actions)
