@@ -43,7 +43,10 @@ def tip_along_y(world: Any) -> list[str]:
     for name in awake:
         if name in held:
             continue
-        under = resting_on(name, boxes)
+        # pymunk bears a block on any y-overlap at all, so a support is any block whose
+        # footprint meets it (a tile set down 0.2 mm over its neighbour's edge stayed up
+        # on it, 20 mm above the table, in x-z: helper round 17, u48)
+        under = resting_on(name, boxes, overlap=0.0)
         if not under or TABLE in under:
             continue  # falling, held up by a hand, or on the table (all of y)
         lo, hi = world.extent(name, 1)

@@ -159,3 +159,19 @@ def test_jaws_on_the_top_of_two_equal_cubes_hold_the_top_one():
         g.close()
         world.settle(1.0)
         assert g.holding == "b", below
+
+
+@pytest.mark.parametrize("overlap", [0.2, 1.0, 2.5])
+@pytest.mark.parametrize("turned", [False, True], ids=["along y", "along x"])
+def test_a_block_let_go_over_a_sliver_of_an_edge_falls_off(overlap, turned):
+    """Helper round 17, u48: a tile set down overlapping its neighbour by 0.2 mm along y
+    stayed on it, 20 mm up: pymunk bears a block on any y-overlap, and the balance check
+    counted a support only past 3 mm of overlap (geometry.SUPPORT_OVERLAP_MM). The
+    scenario format refuses such a layout, so the block is let go there directly."""
+    sc = load_text(_scenario({"a": ("cube", 0, 200, None)}, turned), "balance.yaml")
+    world = World(sc.execute.objects.values())
+    world.settle(0.3)
+    at = (0.0, 230.0 - overlap) if not turned else (30.0 - overlap, 200.0)
+    world.add_block("c", (30.0, 30.0, 30.0), (*at, 45.5))
+    world.settle(2.0)
+    assert world.supports()["c"] == ("table",)
