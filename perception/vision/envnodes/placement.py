@@ -41,6 +41,7 @@ CO_LEVEL_MM = 5.0  # coming over; whose top is this level with its support's
 BESIDE_MM = 5.0  # a target whose top is this far above a set-down block's bottom is beside it
 NEIGHBOUR_MM = 1.0  # a target the set-down footprint shares less than this with is beside it
 LEVEL_MM = 12.0  # tops this close are one level (a support is never thinner than 10 mm)
+CENTRED_MM = 8.0  # a set-down point this near its supports' joint centre was meant there
 SETTLE_MM = 20.0  # a held block's bottom this near its target's top has come down onto it
 
 
@@ -174,14 +175,20 @@ def beside_target(env: EnvModel, targets: Sequence[EnvNode], xy: Sequence[float]
         # search name that one alone; set down across it and the next, the block shares a
         # quarter of its side with each (lbw bench 1144, a pyramid along y)
         top, skip = max(n.top() for n in meet), {n.name for n in targets} | moving
+        # ... or a block of their level centred in their joint footprint that it meets at all:
+        # the fourth leg of a table whose plate was carried in over three (legs 7 mm under
+        # the plate's edges, each 0.23 of its side; generated 1032 at 4x)
         more = [n for n in env.objects() if n.name not in skip and n.position is not None
                 and n.size is not None and abs(n.top() - top) <= CO_LEVEL_MM
-                and _shares(xy, size, n.position, n.size, CO_SUPPORT_SHARE)]
-        if len(meet) < len(targets) and not _carries(meet + more, xy) and \
-                _carries(targets, xy):
+                and (_shares(xy, size, n.position, n.size, CO_SUPPORT_SHARE) or
+                     footprints_meet(xy, size, n.position, n.size, NEIGHBOUR_MM) and
+                     _within(n, targets))]
+        if len(meet) < len(targets) and (not _carries(meet + more, xy) and
+                                         _carries(targets, xy) or _centred(targets, xy, size)):
             # its centre off the ones it meets, it could not stand on them: the set-down
             # point is off (a 120 mm plate measured 18 mm off its four legs under its
-            # edges, generated 1186), not the search
+            # edges, generated 1186), not the search; so too where it lies within the
+            # measuring error of the centre of all of them, where a load goes
             return ()
         if len(meet) < len(targets) or more:
             return tuple(n.name for n in meet + more)
@@ -208,6 +215,26 @@ def onto(targets: Sequence[EnvNode], pos: np.ndarray, size: Sequence[float]) -> 
         if lo <= hi:
             out[k] = min(max(out[k], lo), hi)
     return out
+
+
+def _centred(nodes: Sequence[EnvNode], xy: Sequence[float], size: Sequence[float]) -> bool:
+    """Whether ``nodes``, one level, would all carry a load of ``size`` centred on their
+    joint footprint, and ``xy`` lies within CENTRED_MM of that centre: a plate set down on
+    four legs under its edges by 7 mm, measured 5 mm off along x, met three by more than
+    NEIGHBOUR_MM and the fourth by 0.8 mm (generated 1148 at 2x, 1032 at 4x)."""
+    if max(n.top() for n in nodes) - min(n.top() for n in nodes) > CO_LEVEL_MM:
+        return False
+    lo = np.min([np.asarray(n.position[:2]) - np.asarray(n.size[:2]) / 2 for n in nodes], axis=0)
+    hi = np.max([np.asarray(n.position[:2]) + np.asarray(n.size[:2]) / 2 for n in nodes], axis=0)
+    mid = (lo + hi) / 2.0
+    return float(np.hypot(*(mid - np.asarray(xy[:2], float)))) <= CENTRED_MM and all(
+        footprints_meet(mid, size, n.position, n.size, NEIGHBOUR_MM) for n in nodes)
+
+
+def _within(node: EnvNode, nodes: Sequence[EnvNode]) -> bool:
+    """Whether ``node``'s centre lies within the joint footprint of ``nodes`` (a corner
+    block's own footprint reaches past it by its measuring error)."""
+    return _carries(nodes, node.position)
 
 
 def _carries(nodes: Sequence[EnvNode], xy: Sequence[float]) -> bool:
