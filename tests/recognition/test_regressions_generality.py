@@ -79,6 +79,12 @@ CASES = {
     # tops broke no tie (envnodes/search.py grasped: such a tie waits while the hand is high)
     "class6-equal-cubes-40mm-apart": "equal-cubes-40mm-apart-4x.yaml",
     "class6-five-equal-cubes-40mm-apart": "five-equal-cubes-40mm-apart-4x.yaml",
+    # class 5 (helper round 17, u97): a stack of two cubes the size of a listed column was
+    # read as the column; a seam across its front face splits it (vfd/objects_stacks.py)
+    "class5-two-cubes-the-size-of-a-column": "two-cubes-the-size-of-a-column.yaml",
+    # class 5 (generated twins 1154, 2x): the seam hidden behind a column in front; the
+    # naming hint counts two cubes, and the images allow them there (vfd/objects_restack.py)
+    "class5-cubes-stacked-behind-a-column": "cubes-stacked-behind-a-column-2x.yaml",
 }
 
 

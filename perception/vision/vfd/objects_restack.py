@@ -6,10 +6,13 @@ hide that seam from the elevated side camera, and the top view shows only the
 stack's top: the two views then fit a single block of the stack's size as well
 as the stack (generated twins 1271, 2x: two 40 mm cubes behind a 40 x 40 x 80
 column read as a second column). Only knowledge outside the images tells them
-apart. When the task asks for blocks the finder did not see, and a block of a
-shape it saw more of than the task needs is as large as a stack of the missing
-ones, ``restack`` reads it as that stack, provided the side view does not show
-its front face whole and unbroken where each seam would be.
+apart: how many blocks of each shape there are. In the execution workspace the
+plan's objects count them; in the teach workspace the naming hint does (teach
+name -> shape, the paper's names given by hand). When a count asks for blocks
+the finder did not see, and a block of a shape it saw more of than counted is
+as large as a stack of the missing ones, ``restack`` reads it as that stack,
+provided the side view does not show its front face whole and unbroken where
+each seam would be.
 """
 
 from __future__ import annotations
