@@ -85,6 +85,10 @@ CASES = {
     # class 5 (generated twins 1154, 2x): the seam hidden behind a column in front; the
     # naming hint counts two cubes, and the images allow them there (vfd/objects_restack.py)
     "class5-cubes-stacked-behind-a-column": "cubes-stacked-behind-a-column-2x.yaml",
+    # class 2 (helper round 18, r29): 12 mm pins 1 mm apart along x; the last pin's changed
+    # area lay on its neighbour, within FIT_SLACK_MM of the release point, and won
+    # (envnodes/placement.py placed_x: a place inside a known block is checked first)
+    "class2-pins-1mm-apart-along-x": "pins-1mm-apart-along-x.yaml",
 }
 
 
@@ -99,3 +103,18 @@ def test_unseen_layout_is_recognized(name):
               if op["operation"].startswith("PLACE")]  # each place on its own supports
     assert placed == [sorted(s.on) for s in sc.demonstration if s.kind == "place"]
     assert_targets(sc, actions)
+
+
+def test_pins_1mm_apart_are_placed_where_they_landed():
+    """Helper round 18, r29: the last of four 12 mm pins set down 1 mm apart along x was
+    recorded 11 mm off, on the pin beside it: its changed area lay there, 9.5 mm from
+    the release point, within FIT_SLACK_MM, so it won unchecked; the plan then put two
+    pins in one spot (envnodes/placement.py placed_x checks a place inside a known block
+    first)."""
+    sc, _, actions = watch_file(DATA / "pins-1mm-apart-along-x.yaml")
+    truth = sc.states[-1].center
+    for op in actions["operations"]:
+        if op["operation"].startswith("PLACE"):
+            name = op["special"][0]
+            x = op["final_state"]["positions"][name][0]
+            assert abs(x - truth[name][0]) < 5.0, (name, x, truth[name])

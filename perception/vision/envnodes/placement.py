@@ -122,15 +122,16 @@ def placed_x(det: ChangeDetector, cameras: Mapping[str, Camera], changed: float,
     bright over both candidates, bench 1219); the release point wins only when it
     explains the image clearly better.
     """
-    if abs(changed - released) <= FIT_SLACK_MM:
-        return changed
     # a candidate whose box would go into a known block is no place a block can be: in a
     # 2 x 2 grid 7 mm apart the side view's change lay between two columns, 21 mm off,
-    # 15 mm into the neighbour (generated gaps 1085 at 2x)
+    # 15 mm into the neighbour (generated gaps 1085 at 2x); 12 mm pins 1 mm apart, the
+    # change lay 9.5 mm from the release, on the pin beside (helper round 18, r29)
     inside = [any(overlap((x, *yz), size, o.center, o.size, tol=INTO_MM) for o in others)
               for x in (changed, released)]
     if inside[0] != inside[1]:
         return released if inside[0] else changed
+    if abs(changed - released) <= FIT_SLACK_MM:
+        return changed
     fits = []
     for x in (changed, released):
         region = Region3D.around((x, yz[0], yz[1]), size)
