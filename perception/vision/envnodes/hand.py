@@ -45,7 +45,7 @@ REENTRY_S = 0.5  # s after leaving before a moving thing counts as a new hand (n
 HISTORY_S = 30.0  # s of the hand's path kept (a motion's stretch is a few seconds)
 LET_GO_MM = 8.0  # the hand let go at the last point of its path this close to its lowest
 GRASP_MARGIN_MM = 20.0  # a grasp is made over the object's footprint grown by this
-GRASP_GAP_S = 1.0  # ... in the hand's last stay over it: away longer than this, it had left
+LEFT_MM = 100.0  # ... in the hand's last visit to it: this far off, the hand had left it
 # The tracked point and the top view's palm disagree this much (x, y) more than they did
 # high in the carry: a finger hidden behind a taller block in front moved the point (a
 # 30 mm cube slid 13 mm along a 120 mm tower in front of it measured 39 mm: round 17, u88)
@@ -310,14 +310,16 @@ class HandState:
         """Object centre minus the hand (and the spot) where the hand closed on it."""
         rest = self._rest[node.name]
         half = np.asarray(node.size[:2], float) / 2.0 + GRASP_MARGIN_MM
-        # the hand's last stay over it: a neighbour 1 mm away picked 30 s before had the
-        # hand as low over the same grown footprint, and that older grasp was taken
-        # (the grip 31 mm off, the place on a cube read as on the table: round 18, r58)
+        # the hand's last visit to it, since it was last LEFT_MM away: a neighbour 1 mm
+        # away picked 30 s before had the hand as low over the same grown footprint, and
+        # that older grasp was taken (the grip 31 mm off, the place on a cube read as on
+        # the table: round 18, r58). Not its last stay over it: squeezing in between
+        # neighbours, the tracked point may stray off it for a while (v04z).
         over: list[Sample] = []
         for s in reversed(self.history):
             if np.all(np.abs(s.hand[:2] - rest[:2]) <= half):
                 over.append(s)
-            elif over and over[-1].t - s.t > GRASP_GAP_S:
+            elif over and float(np.hypot(*(s.hand[:2] - rest[:2]))) > LEFT_MM:
                 break
         over = over or list(self.history)
         if not over:

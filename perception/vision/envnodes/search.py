@@ -289,7 +289,12 @@ class SearchNode(EnvNodeBase):
         inside = min(SUPPORT_TOLERANCE_MM, SUPPORT_SHARE * narrow) \
             if narrow <= float(min(held.size[:2])) else 0.0
         landed = float(held.lo[2]) - top <= LAND_MM
-        if out <= -inside or (out <= reach and landed):
+        # high above the level, a block counts only where the held footprint overlaps it:
+        # a 25 mm cube carried in over the spot among four cubes, within reach of all four
+        # and centred in their joint footprint, was put on them 130 mm up, and the place
+        # began there (helper round 10's v04z, once its grip was measured right)
+        over = landed or all(gaps[n.name] < 0.0 for n in under)
+        if (out <= -inside and over) or (out <= reach and landed):
             return tuple(n.name for n in under)
         # a footprint well over some of them cannot come down beside them: the supports
         # on its far side are not under it yet (a plate on four posts, each under one of
