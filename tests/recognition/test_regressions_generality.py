@@ -94,6 +94,10 @@ CASES = {
     # over its grown footprint; its place on a cube read as on the table
     # (envnodes/hand.py _measure_grip: the hand's last stay over the object)
     "class2-cubes-1mm-apart-stacked-elsewhere": "cubes-1mm-apart-stacked-elsewhere.yaml",
+    # class 5 (helper round 18, r70): a lintel taken off its pillars over its middle; the
+    # tracked finger, 28 mm off the palm, lay over a pillar, which was named the pick
+    # (envnodes/search.py grasped: the palm-checked point chooses)
+    "class5-arch-taken-apart-lintel-first": "arch-taken-apart-lintel-first.yaml",
 }
 
 

@@ -196,7 +196,11 @@ class SearchNode(EnvNodeBase):
                 if below.kind == "Loc" and below.position is not None and below.name not in cands:
                     cands[below.name] = below
                     todo.append(below)
-        hand = np.asarray(self.hand.hand[:2], float)
+        # the palm-checked point: with the fingers spread the tracked one may be 28 mm off
+        # the palm (a lintel across two pillars taken over its middle was named after
+        # the pillar under the finger: helper round 18, r70)
+        spot = self.hand.spot if self.hand.spot is not None else self.hand.hand
+        hand = np.asarray(spot[:2], float)
         # a block with another on it over the hand is not the one taken: its top there is
         # covered (a post under a plate's end, nearer the hand than the plate's centre)
         covered = {name for name in cands if any(
