@@ -30,9 +30,14 @@ SUPPORT_OVERLAP_MM = 3.0  # ... and footprints overlapping its own by more than 
 
 def overlap(c1: Vec, s1: Vec, c2: Vec, s2: Vec, tol: float = 1.0) -> bool:
     """Do two boxes interpenetrate by more than ``tol`` mm along every axis?"""
-    return all(
-        (s1[k] + s2[k]) / 2 - abs(c1[k] - c2[k]) > tol for k in range(3)
-    )
+    return depth(c1, s1, c2, s2) > tol
+
+
+def depth(c1: Vec, s1: Vec, c2: Vec, s2: Vec) -> float:
+    """How deep two boxes interpenetrate: the least of their overlaps along the three
+    axes (mm); 0 when they are apart or touch."""
+    return max(0.0, min((float(s1[k]) + float(s2[k])) / 2 - abs(float(c1[k]) - float(c2[k]))
+                        for k in range(3)))
 
 
 def footprints_meet(c1: Vec, s1: Vec, c2: Vec, s2: Vec, tol: float = SUPPORT_OVERLAP_MM) -> bool:

@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from lbw_engine.model.env import EnvModel, EnvNode
-from lbw_engine.model.geometry import SUPPORT_OVERLAP_MM, footprints_meet, overlap
+from lbw_engine.model.geometry import SUPPORT_OVERLAP_MM, depth, footprints_meet
 from lbw_engine.names import TABLE
 from lbw_engine.see.detectors import ActView
 from perception.vision.camera import Camera
@@ -126,10 +126,15 @@ def placed_x(det: ChangeDetector, cameras: Mapping[str, Camera], changed: float,
     # 2 x 2 grid 7 mm apart the side view's change lay between two columns, 21 mm off,
     # 15 mm into the neighbour (generated gaps 1085 at 2x); 12 mm pins 1 mm apart, the
     # change lay 9.5 mm from the release, on the pin beside (helper round 18, r29)
-    inside = [any(overlap((x, *yz), size, o.center, o.size, tol=INTO_MM) for o in others)
-              for x in (changed, released)]
+    deep = [max((depth((x, *yz), size, o.center, o.size) for o in others), default=0.0)
+            for x in (changed, released)]
+    inside = [d > INTO_MM for d in deep]
     if inside[0] != inside[1]:
         return released if inside[0] else changed
+    if all(inside) and abs(deep[0] - deep[1]) > INTO_MM:
+        # both into a neighbour measured a few mm off: the shallower (the same pins, a
+        # seed where the release point lay 3.4 mm into it and the change 10.9 mm)
+        return released if deep[1] < deep[0] else changed
     if abs(changed - released) <= FIT_SLACK_MM:
         return changed
     fits = []
