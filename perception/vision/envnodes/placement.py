@@ -230,8 +230,7 @@ def _centred(nodes: Sequence[EnvNode], xy: Sequence[float], size: Sequence[float
     NEIGHBOUR_MM and the fourth by 0.8 mm (generated 1148 at 2x, 1032 at 4x)."""
     if max(n.top() for n in nodes) - min(n.top() for n in nodes) > CO_LEVEL_MM:
         return False
-    lo = np.min([np.asarray(n.position[:2]) - np.asarray(n.size[:2]) / 2 for n in nodes], axis=0)
-    hi = np.max([np.asarray(n.position[:2]) + np.asarray(n.size[:2]) / 2 for n in nodes], axis=0)
+    lo, hi = _joint(nodes)
     mid = (lo + hi) / 2.0
     return float(np.hypot(*(mid - np.asarray(xy[:2], float)))) <= CENTRED_MM and all(
         footprints_meet(mid, size, n.position, n.size, NEIGHBOUR_MM) for n in nodes)
@@ -245,9 +244,15 @@ def _within(node: EnvNode, nodes: Sequence[EnvNode]) -> bool:
 
 def _carries(nodes: Sequence[EnvNode], xy: Sequence[float]) -> bool:
     """Whether a load centred at ``xy`` (x, y) lies over the joint footprint of ``nodes``."""
+    lo, hi = _joint(nodes)
+    return bool(np.all(lo <= np.asarray(xy[:2])) and np.all(np.asarray(xy[:2]) <= hi))
+
+
+def _joint(nodes: Sequence[EnvNode]) -> tuple[np.ndarray, np.ndarray]:
+    """The joint footprint of ``nodes``: its lowest and highest (x, y)."""
     lo = np.min([np.asarray(n.position[:2]) - np.asarray(n.size[:2]) / 2 for n in nodes], axis=0)
     hi = np.max([np.asarray(n.position[:2]) + np.asarray(n.size[:2]) / 2 for n in nodes], axis=0)
-    return bool(np.all(lo <= np.asarray(xy[:2])) and np.all(np.asarray(xy[:2]) <= hi))
+    return lo, hi
 
 
 def _shares(c1: Sequence[float], s1: Sequence[float], c2: Sequence[float],
