@@ -29,15 +29,21 @@ SUPPORT_OVERLAP_MM = 3.0  # ... and footprints overlapping its own by more than 
 
 
 def overlap(c1: Vec, s1: Vec, c2: Vec, s2: Vec, tol: float = 1.0) -> bool:
-    """Do two boxes interpenetrate by more than ``tol`` mm along every axis?"""
-    return depth(c1, s1, c2, s2) > tol
+    """Do two boxes interpenetrate by more than ``tol`` mm along every axis? (A negative
+    ``tol`` asks whether they come within -``tol`` of each other on every axis.)"""
+    return _least_overlap(c1, s1, c2, s2) > tol
 
 
 def depth(c1: Vec, s1: Vec, c2: Vec, s2: Vec) -> float:
     """How deep two boxes interpenetrate: the least of their overlaps along the three
     axes (mm); 0 when they are apart or touch."""
-    return max(0.0, min((float(s1[k]) + float(s2[k])) / 2 - abs(float(c1[k]) - float(c2[k]))
-                        for k in range(3)))
+    return max(0.0, _least_overlap(c1, s1, c2, s2))
+
+
+def _least_overlap(c1: Vec, s1: Vec, c2: Vec, s2: Vec) -> float:
+    """The least, over the three axes, of how far two boxes overlap (negative: apart)."""
+    return min((float(s1[k]) + float(s2[k])) / 2 - abs(float(c1[k]) - float(c2[k]))
+               for k in range(3))
 
 
 def footprints_meet(c1: Vec, s1: Vec, c2: Vec, s2: Vec, tol: float = SUPPORT_OVERLAP_MM) -> bool:
