@@ -41,7 +41,7 @@ def depth(c1: Vec, s1: Vec, c2: Vec, s2: Vec) -> float:
 
 
 def _least_overlap(c1: Vec, s1: Vec, c2: Vec, s2: Vec) -> float:
-    """The least, over the three axes, of how far two boxes overlap (negative: apart)."""
+    """The least, over the three axes, of how much two boxes overlap (negative: apart)."""
     return min((float(s1[k]) + float(s2[k])) / 2 - abs(float(c1[k]) - float(c2[k]))
                for k in range(3))
 
