@@ -93,7 +93,7 @@ def test_a_block_set_on_one_of_its_own_size_is_no_align():
     # set down flush on the named face, slid 6 mm into contact: coplanar at both ends
     ("align-flush-then-slid-into-contact.yaml", [["NO-OP"], ["ALIGN"]]),
     # slid along a 120 mm tower in front, which hides the fingers from the side camera:
-    # x, y from the top view's palm (HandState.held_box, above)
+    # x, y from the top view's palm (CoplanarNode._from_above)
     ("align-behind-a-120mm-tower.yaml", [["NO-OP"], ["ALIGN"]]),
     # slid into line with a 120 mm tower's north face, measured 7 mm from it (CONTACT_MM)
     ("align-north-beside-a-120mm-tower.yaml", [["NO-OP"], ["ALIGN"]]),

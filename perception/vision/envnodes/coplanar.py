@@ -13,6 +13,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from lbw_engine.model.env import EnvModel
 from lbw_engine.see.detectors import ActView, Detection
 from perception.vision.envnodes.base import EnvNodeBase
@@ -37,6 +39,13 @@ MODEL_TOLERANCE_MM = 10.0  # a hidden face pair: coplanar by the measured boxes 
 # The palm seen from above must have moved by this share of that too: the side view's
 # fingers can be hidden behind a block in front, the top view's palm is not.
 TOP_SHARE = 0.5
+# Where a block in front stands HIDE_MM above the held one, the fingers are out of the side
+# camera's sight, and the held box goes where the top view's palm puts it, if that lies
+# TOP_TRUST_MM from the tracked point beyond how the two differed high in the carry (a
+# 30 mm cube slid 13 mm along a 120 mm tower in front of it measured 39 mm: round 17,
+# u88). Only there: in the open they differ by up to 7 mm as the hand turns, and a 20 mm
+# tile set down 2 mm behind another read as slid (u48).
+HIDE_MM, TOP_TRUST_MM = 20.0, 6.0
 
 
 
@@ -58,7 +67,9 @@ class CoplanarNode(EnvNodeBase):
         self.hand.observe(env)
         # where the hand let go of it (or holds it now): it stays there (Sec. V-B5)
         let_go = self.hand.let_go(act.since)
-        held = self.hand.held_box(env, at=let_go, above=True)
+        held = self.hand.held_box(env, at=let_go)
+        if held is not None and let_go is not None:
+            held = held[0], self._from_above(held[0].name, held[1], let_go, env)
         if held is None or self.sight.frame is None:
             return {"pairs": set(), "hidden": False, "at": None, "offsets": {}, "modelled": set(),
                     "top": None}
@@ -93,6 +104,18 @@ class CoplanarNode(EnvNodeBase):
         self.detector.free()
         return {"pairs": out, "hidden": hidden, "at": (float(a.center[0]), float(a.center[1])),
                 "offsets": offsets, "modelled": modelled, "top": top}
+
+    def _from_above(self, name: str, held: Region3D, at: Any, env: EnvModel) -> Region3D:
+        """The held box ``held`` at sample ``at``, moved (x, y) where the top view's palm
+        puts it when a taller block in front hides the fingers (HIDE_MM, TOP_TRUST_MM)."""
+        if at.top is None or not _hidden_behind(held, env):
+            return held
+        d = self.hand.top_offset(name, at.t)
+        if d is None:
+            return held
+        dx, dy = np.asarray(at.top) - d - at.hand[:2]
+        return held.shifted(float(dx), float(dy)) if math.hypot(dx, dy) > TOP_TRUST_MM \
+            else held
 
     def snapshot(self, act: ActView, env: EnvModel) -> Any:
         """Coplanar face pairs now."""
@@ -150,3 +173,17 @@ def _face(region: Region3D, face: str) -> float:
     """World coordinate of a box's named vertical face (north/south: y, east/west: x)."""
     axis = 1 if face in ("north", "south") else 0
     return float(region.hi[axis] if face in ("north", "east") else region.lo[axis])
+
+
+def _hidden_behind(held: Region3D, env: EnvModel) -> bool:
+    """Whether a block stands in front of ``held`` (nearer the side camera, -y), across
+    its x, with its top HIDE_MM or more above the held block's: the fingers holding it
+    are out of the side camera's sight."""
+    for node in env.objects():
+        if node.position is None or node.size is None or node.name in env.held():
+            continue
+        b = box(node)
+        if b.hi[1] <= held.lo[1] + 1.0 and b.hi[2] >= held.hi[2] + HIDE_MM and \
+                b.lo[0] < held.hi[0] and b.hi[0] > held.lo[0]:
+            return True
+    return False

@@ -22,7 +22,7 @@ import bisect
 from collections import deque
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -46,14 +46,17 @@ HISTORY_S = 30.0  # s of the hand's path kept (a motion's stretch is a few secon
 LET_GO_MM = 8.0  # the hand let go at the last point of its path this close to its lowest
 GRASP_MARGIN_MM = 20.0  # a grasp is made over the object's footprint grown by this
 LEFT_MM = 100.0  # ... in the hand's last visit to it: this far off, the hand had left it
-# The tracked point and the top view's palm disagree this much (x, y) more than they did
-# high in the carry: a finger hidden behind a taller block in front moved the point (a
-# 30 mm cube slid 13 mm along a 120 mm tower in front of it measured 39 mm: round 17, u88)
-TOP_TRUST_MM = 6.0
 CARRY_TOP_MM = 30.0  # the carry's high part: samples this close to its highest point
-HIDE_MM = 20.0  # a block in front this much taller than a held one hides its fingers
 CONVERGE_FRAMES = 3  # frames a (re)placed tracker's windows take to pull onto the hand
 SETTLE_FRAMES = 5  # tracked frames after convergence before the velocity is trusted
+
+
+class Grip(NamedTuple):
+    """Object centre minus the tracked point (``hand``) and the spot at the grasp, and when."""
+
+    hand: np.ndarray
+    spot: np.ndarray
+    t: float | None
 
 
 @dataclass(frozen=True)
@@ -142,8 +145,7 @@ class HandState:
         # (since, -1 lowest | 1 highest) -> (samples seen, that sample)
         self._extremes: dict[tuple[float, float], tuple[int, Sample]] = {}
         self._rest: dict[str, np.ndarray] = {}  # object -> its last position while not held
-        self._grip: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # held -> (hand, spot) grip
-        self._grasped: dict[str, float] = {}  # held -> when the hand closed on it
+        self._grip: dict[str, Grip] = {}  # held -> its grip, measured when it was picked up
         self._observed: tuple | None = None  # what observe() last saw (frame, relations)
 
     # -- per frame (always on, Sec. V-A) ----------------------------------------------
@@ -297,7 +299,6 @@ class HandState:
         held = set(env.held())
         for name in [n for n in self._grip if n not in held]:
             del self._grip[name]
-            self._grasped.pop(name, None)
         for node in env.objects():
             if node.position is None:
                 continue
@@ -306,8 +307,9 @@ class HandState:
             elif node.name not in self._grip and node.name in self._rest:
                 self._grip[node.name] = self._measure_grip(node)
 
-    def _measure_grip(self, node: EnvNode) -> tuple[np.ndarray, np.ndarray]:
-        """Object centre minus the hand (and the spot) where the hand closed on it."""
+    def _measure_grip(self, node: EnvNode) -> Grip:
+        """Object centre minus the hand (and the spot) where, and when, the hand closed on
+        it."""
         rest = self._rest[node.name]
         half = np.asarray(node.size[:2], float) / 2.0 + GRASP_MARGIN_MM
         # the hand's last visit to it, since it was last LEFT_MM away: a neighbour 1 mm
@@ -323,10 +325,9 @@ class HandState:
                 break
         over = over or list(self.history)
         if not over:
-            return np.zeros(3), np.zeros(3)
+            return Grip(np.zeros(3), np.zeros(3), None)
         grasp = min(over, key=lambda s: float(s.hand[2]))
-        self._grasped[node.name] = grasp.t
-        return rest - grasp.hand, rest - grasp.spot
+        return Grip(rest - grasp.hand, rest - grasp.spot, grasp.t)
 
     def held_fill(self, box: Region3D) -> float:
         """Share of the holder window that the side-view image of a held block's ``box``
@@ -340,17 +341,12 @@ class HandState:
         cover = max(0.0, min(u1, w.x1) - max(u0, w.x0)) * max(0.0, min(v1, w.y1) - max(v0, w.y0))
         return float(cover) / max(1, (w.x1 - w.x0) * (w.y1 - w.y0))
 
-    def held_box(self, env: EnvModel, at: Sample | None = None, spot: bool = False,
-                 above: bool = False) -> tuple[EnvNode, Region3D] | None:
+    def held_box(self, env: EnvModel, at: Sample | None = None, spot: bool = False
+                 ) -> tuple[EnvNode, Region3D] | None:
         """The held object and its box under the hand (now, or at sample ``at``).
 
         ``spot`` hangs it under the palm-checked point (where things are, docs/seeing.md)
-        instead of the tracker's own point. ``above``: at sample ``at``, where a block
-        in front, taller than the held one, hides its fingers from the side camera, the
-        point's x, y as the top view's palm puts it, if the two disagree by more than
-        TOP_TRUST_MM beyond what they did high in the carry (``_top_offset``): the top
-        camera looks down on the hand. Unhidden, the two differ by up to 7 mm as the hand
-        turns (a 20 mm tile set down 2 mm behind another: round 17, u48).
+        instead of the tracker's own point.
         """
         held = [env.nodes[n] for n in env.held() if n in env.nodes]
         if not held or held[0].size is None or self.hand is None:
@@ -361,40 +357,19 @@ class HandState:
             return None
         point = (at.spot if spot else at.hand) if at is not None else \
             (self.spot if spot and self.spot is not None else self.hand)
-        out = box(held[0], point + grip[1 if spot else 0])
-        if above and at is not None and at.top is not None and _hidden_behind(out, env):
-            d = self._top_offset(held[0].name, at.t, spot)
-            if d is not None and float(np.hypot(*(at.top - d - point[:2]))) > TOP_TRUST_MM:
-                point = np.array([*(at.top - d), point[2]])
-                out = box(held[0], point + grip[1 if spot else 0])
-        return held[0], out
+        return held[0], box(held[0], point + grip[1 if spot else 0])
 
-    def _top_offset(self, name: str, t: float, spot: bool) -> np.ndarray | None:
-        """The top-view palm minus the tracked point (or the spot), x, y, in the median over
-        the high part of the carry of ``name`` before ``t``, where nothing hides the hand
-        from either camera; None with fewer than 3 such samples."""
-        t0 = self._grasped.get(name)
-        if t0 is None:
+    def top_offset(self, name: str, t: float) -> np.ndarray | None:
+        """The top-view palm minus the tracked point, x, y, in the median over the high
+        part of the carry of held ``name`` before ``t``, where nothing hides the hand from
+        either camera; None with fewer than 3 such samples."""
+        grip = self._grip.get(name)
+        if grip is None or grip.t is None:
             return None
-        carry = [s for s in self.history[bisect.bisect_left(self._times, t0):
+        carry = [s for s in self.history[bisect.bisect_left(self._times, grip.t):
                                          bisect.bisect_right(self._times, t)] if s.top is not None]
         if not carry:
             return None
         high = max(float(s.hand[2]) for s in carry) - CARRY_TOP_MM
-        d = [np.asarray(s.top) - (s.spot if spot else s.hand)[:2] for s in carry
-             if s.hand[2] >= high]
+        d = [np.asarray(s.top) - s.hand[:2] for s in carry if s.hand[2] >= high]
         return np.median(np.array(d), axis=0) if len(d) >= 3 else None
-
-
-def _hidden_behind(held: Region3D, env: EnvModel) -> bool:
-    """Whether a block stands in front of ``held`` (nearer the side camera, -y), across
-    its x, with its top HIDE_MM or more above the held block's: the fingers holding it
-    are out of the side camera's sight."""
-    for node in env.objects():
-        if node.position is None or node.size is None or node.name in env.held():
-            continue
-        b = box(node)
-        if b.hi[1] <= held.lo[1] + 1.0 and b.hi[2] >= held.hi[2] + HIDE_MM and \
-                b.lo[0] < held.hi[0] and b.hi[0] > held.lo[0]:
-            return True
-    return False
