@@ -47,13 +47,17 @@ def restack(cam, side: np.ndarray, found: Sequence[FoundObject],
                 continue  # the task needs every block of this shape that was seen
             for names in _stacks(f, short, shapes):
                 err = _fit(f, names, shapes)
-                if (best is None or err < best[0]) and all(
-                        _seam_unseen(cam, side, f, z) for z in _seams(f, names, shapes)):
-                    best = (err, k, names)
+                if best is not None and err >= best[0]:
+                    continue
+                pieces = _pieces(f, names, shapes)
+                # the seams: the tops of all but the highest piece
+                if all(_seam_unseen(cam, side, f, p.position[2] + p.size[2] / 2.0)
+                       for p in pieces[:-1]):
+                    best = (err, k, pieces)
         if best is None:
             return out
-        _, k, names = best
-        out[k:k + 1] = _pieces(out[k], names, shapes)
+        _, k, pieces = best
+        out[k:k + 1] = pieces
 
 
 def _stacks(f: FoundObject, short: Counter, shapes: Mapping[str, Sequence[float]]
@@ -76,17 +80,6 @@ def _fit(f: FoundObject, names: Sequence[str], shapes: Mapping[str, Sequence[flo
     """How far the stack ``names`` is from ``f``'s measured size (mm, summed)."""
     return sum(abs(shapes[s][0] - f.size[0]) + abs(shapes[s][1] - f.size[1]) for s in names) \
         / len(names) + abs(sum(shapes[s][2] for s in names) - f.size[2])
-
-
-def _seams(f: FoundObject, names: Sequence[str], shapes: Mapping[str, Sequence[float]]
-           ) -> list[float]:
-    """Heights (mm) of the seams between the blocks ``names`` stacked from ``f``'s base."""
-    z = f.position[2] - f.size[2] / 2.0
-    out = []
-    for s in names[:-1]:
-        z += shapes[s][2]
-        out.append(z)
-    return out
 
 
 def _pieces(f: FoundObject, names: Sequence[str], shapes: Mapping[str, Sequence[float]]
