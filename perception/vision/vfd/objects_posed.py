@@ -35,6 +35,7 @@ from perception.vision.vfd.objects_faces import (
     tops_unseen,
     uncovered_or_part_seen,
 )
+from perception.vision.vfd.objects_nudged import nudged
 from perception.vision.vfd.objects_pieces import (
     above,
     box_rect,
@@ -106,6 +107,7 @@ def explain(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
         _replace(boxes, named, expected, cost, top_shown)
         if len(named) == before:
             break
+    nudged(boxes, named, check, WORSE_PX)  # blocks under others slid a few mm
     for group in doubtful:  # posed one by one, a structure must still fit as a whole
         posed = [(boxes[named[n]].position, boxes[named[n]].size) for n in group if n in named]
         if posed and not _fits(check, boxes, posed, []):
