@@ -20,7 +20,7 @@ from lbw_engine.do.balance import steadied, volume
 from lbw_engine.do.plan import Plan, Relation, placed
 from lbw_engine.errors import InputError, TaskFailed
 from lbw_engine.model.env import EnvModel
-from lbw_engine.model.geometry import TABLE, Vec, overlap, top
+from lbw_engine.model.geometry import TABLE, Vec, footprints_meet, overlap, top
 from lbw_engine.rules.commands import CommandRules
 
 NOT_OBJECTS = frozenset({TABLE, "hand"})
@@ -189,6 +189,7 @@ def placement(rel: Relation, focus: str, rules: CommandRules, model: EnvModel,
     if supports:
         xy = _off_neighbours(xy, focus, supports, base, model)
     goal = (xy[0], xy[1], base + size[2] / 2 + rules.release_clearance)
+    _check_reach(goal, focus, supports, model)
     if check:
         _check_free(goal, focus, model)
     return goal, moved
@@ -244,6 +245,26 @@ def occupants(goal: Vec, focus: str, model: EnvModel) -> list[str]:
     size = model.bodies[focus].size
     return [name for name, b in model.bodies.items()
             if name not in moving and overlap(goal, size, b.position, b.size, tol=1.5)]
+
+
+def _check_reach(goal: Vec, focus: str, supports: Sequence[str], model: EnvModel) -> None:
+    """A load on several supports must reach every one of them from its goal. Supports
+    the plan never moves stand where the execution layout has them; set farther apart
+    than the load spans, no place can rest it on all (helper round 17, u63: a slab
+    taught across a pillar and a stack 100 mm apart, both left where they stood 400 mm
+    apart; four repairs put it on the table)."""
+    if len(supports) < 2:
+        return
+    size = model.bodies[focus].size
+    far = [s for s in supports if not footprints_meet(goal, size, model.bodies[s].position,
+                                                      model.bodies[s].size, tol=0.0)]
+    if far:
+        apart = max(math.dist(model.bodies[a].position[:2], model.bodies[b].position[:2])
+                    for a in supports for b in supports)
+        raise TaskFailed(f"cannot place '{focus}' on {', '.join(supports)}: they stand up to "
+                         f"{apart:.0f} mm apart, and '{focus}' ({size[0]:g} x {size[1]:g} mm) "
+                         f"at {mm(goal)} does not reach '{far[0]}' at "
+                         f"{mm(model.bodies[far[0]].position)}")
 
 
 def _check_free(goal: Vec, focus: str, model: EnvModel) -> None:
