@@ -30,7 +30,13 @@ TOWER = {"b1": ("brick", (-60.0, 150.0, 25.0), BRICK), "b2": ("brick", (-60.0, 1
 # fault bench seed 9006: an arch along x, its beam over the whole of each pillar's top
 ARCH = {"p1": ("pillar", (-42.0, 118.0, 25.0), BRICK), "p2": ("pillar", (38.0, 118.0, 25.0), BRICK),
         "beam": ("beam", (-2.0, 118.0, 60.0), (130.0, 40.0, 20.0))}
-SHAPES = {"cube": CUBE, "brick": BRICK, "pillar": BRICK, "beam": (130.0, 40.0, 20.0)}
+# fault bench seed 5008: a table, its top over the whole of each leg's top
+PLATE = (120.0, 100.0, 10.0)
+TABLE = {"l1": ("brick", (-228.0, 50.0, 25.0), BRICK), "l2": ("brick", (-225.0, 119.0, 25.0), BRICK),
+         "l3": ("brick", (-139.0, 117.0, 25.0), BRICK), "l4": ("brick", (-138.0, 50.0, 25.0), BRICK),
+         "top": ("plate", (-184.0, 86.0, 55.0), PLATE)}
+SHAPES = {"cube": CUBE, "brick": BRICK, "pillar": BRICK, "beam": (130.0, 40.0, 20.0),
+          "plate": PLATE}
 
 
 def _look(expected, slid, by, noise, seed):
@@ -52,12 +58,17 @@ def _look(expected, slid, by, noise, seed):
     (PYRAMID, "c3", (-7.0, 0.0)),   # a strip of its top between c4 and c5 shows
     (PYRAMID, "c3", (8.0, 0.0)),
     (ARCH, "p2", (0.0, 8.0)),       # its top shows behind the beam
+    (TABLE, "l1", (0.0, -9.0)),     # out from under the top's front edge: the whole
+    #                                 table did not fit, and its legs were reported gone
     (PYRAMID, "c3", (0.0, 0.0)),    # controls: in place, they stay there
     (PYRAMID, "c1", (0.0, 0.0)),
     (TOWER, "b2", (0.0, 0.0)),
     (ARCH, "p1", (0.0, 0.0)),
+    (TABLE, "l1", (0.0, 0.0)),
 ], ids=["pyramid-middle-7mm-x", "pyramid-middle-8mm-x", "arch-pillar-8mm-y",
-        "pyramid-in-place", "pyramid-front-in-place", "tower-in-place", "arch-in-place"])
+        "table-leg-9mm-out",
+        "pyramid-in-place", "pyramid-front-in-place", "tower-in-place", "arch-in-place",
+        "table-in-place"])
 def test_a_slid_block_is_measured_where_it_lies_and_the_others_stay(
         structure, slid, by, noise):
     world, measured = _look(structure, slid, by, noise, seed=7)
