@@ -32,8 +32,10 @@ ARCH = {"p1": ("pillar", (-42.0, 118.0, 25.0), BRICK), "p2": ("pillar", (38.0, 1
         "beam": ("beam", (-2.0, 118.0, 60.0), (130.0, 40.0, 20.0))}
 # fault bench seed 5008: a table, its top over the whole of each leg's top
 PLATE = (120.0, 100.0, 10.0)
-TABLE = {"l1": ("brick", (-228.0, 50.0, 25.0), BRICK), "l2": ("brick", (-225.0, 119.0, 25.0), BRICK),
-         "l3": ("brick", (-139.0, 117.0, 25.0), BRICK), "l4": ("brick", (-138.0, 50.0, 25.0), BRICK),
+TABLE = {"l1": ("brick", (-228.0, 50.0, 25.0), BRICK),
+         "l2": ("brick", (-225.0, 119.0, 25.0), BRICK),
+         "l3": ("brick", (-139.0, 117.0, 25.0), BRICK),
+         "l4": ("brick", (-138.0, 50.0, 25.0), BRICK),
          "top": ("plate", (-184.0, 86.0, 55.0), PLATE)}
 SHAPES = {"cube": CUBE, "brick": BRICK, "pillar": BRICK, "beam": (130.0, 40.0, 20.0),
           "plate": PLATE}
