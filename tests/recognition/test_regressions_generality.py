@@ -98,6 +98,11 @@ CASES = {
     # tracked finger, 28 mm off the palm, lay over a pillar, which was named the pick
     # (envnodes/search.py grasped: the palm-checked point chooses)
     "class5-arch-taken-apart-lintel-first": "arch-taken-apart-lintel-first.yaml",
+    # class 2 (helper round 17, u62): a 30 mm brick taken from 2 mm behind a row of 40 mm
+    # cubes; 150 mm up, the hand was 20 mm from the brick and 24 mm from a cube, and the
+    # higher of a near tie was named though neither stood on the other
+    # (envnodes/search.py grasped: side by side, a tie waits while the hand is high)
+    "class2-brick-behind-a-row-of-taller-cubes": "brick-behind-a-row-of-taller-cubes.yaml",
 }
 
 

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from lbw_engine.model.env import EnvModel, EnvNode
+from lbw_engine.model.geometry import footprints_meet
 from lbw_engine.names import TABLE
 from lbw_engine.see.detectors import Detection, Query
 from perception.vision.envnodes.base import EnvNodeBase
@@ -39,7 +40,7 @@ DECIDE_MM = 60.0
 # one tracked 7 mm over its neighbour 59 mm up, as put on it (helper round 16, BE).
 LAND_MM = 15.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
-LEVEL_MM = 5.0  # ... and of those, the ones whose tops are this near the highest are as high
+LEVEL_MM = 5.0  # ... and of those, one whose top is this much higher than another over it
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
 MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target) lasts longer
 # A hand carrying an object that stops before it has gone anywhere (x, y) since its
@@ -186,8 +187,8 @@ class SearchNode(EnvNodeBase):
         At :Near the hand may still be 20 mm beside the grasp point, so a rider on a
         plank can reach into the hand-sized region before the plank does. The blocks
         found and what they rest on are candidates; the one whose centre is nearest the
-        hand wins, the upper one on a near tie (a tower's blocks are centred on each other);
-        blocks as high on a near tie wait (WAIT) until the hand is DECIDE_MM above them.
+        hand wins, the upper one on a near tie of blocks one over another; blocks side
+        by side on a near tie wait (WAIT) until the hand is DECIDE_MM above them.
         """
         cands = {n.name: n for n in hits}
         todo = list(hits)
@@ -211,14 +212,19 @@ class SearchNode(EnvNodeBase):
         dist = {name: float(np.hypot(*(np.asarray(n.position[:2]) - hand)))
                 for name, n in cands.items()}
         near = [n for n in cands.values() if dist[n.name] <= min(dist.values()) + TIE_MM]
-        top = max(n.top() for n in near)
-        level = [n for n in near if n.top() >= top - LEVEL_MM]
-        if len(level) > 1 and float(self.hand.hand[2]) - top > DECIDE_MM:
-            # blocks as high side by side, the hand between them: it is still coming in
-            # over one (equal cubes 40 mm apart, the approach begun 20 mm beside the
-            # target: round 14, v56y read its neighbour's NO-OP)
+        # of a near tie one over another (a tower's blocks are centred on each other), the
+        # upper; side by side, a lower block is no less a candidate (a brick taken from
+        # behind a row of taller cubes, 2 mm away: helper round 17, u62)
+        pool = [n for n in near if not any(
+            m.top() > n.top() + LEVEL_MM and footprints_meet(
+                m.position, m.size, n.position, n.size, tol=0.0) for m in near)]
+        top = max(n.top() for n in pool)
+        if len(pool) > 1 and float(self.hand.hand[2]) - top > DECIDE_MM:
+            # blocks side by side, the hand between them: it is still coming in over one
+            # (equal cubes 40 mm apart, the approach begun 20 mm beside the target: round
+            # 14, v56y read its neighbour's NO-OP)
             return WAIT
-        return (min(level, key=lambda n: dist[n.name]).name,)
+        return (min(pool, key=lambda n: dist[n.name]).name,)
 
     def confirm(self, region: Region3D, env: EnvModel, skip: set[str],
                 held: Region3D | None) -> tuple[str, ...]:
