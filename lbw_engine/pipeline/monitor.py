@@ -163,12 +163,10 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
     def snap(name: str, m: EnvModel) -> None:
         if name in unit_names:
             snaps[name] = (m.settled(names), m.final_supports(names))
-            # the robot steps aside after each unit (step_aside): the next unit's reach
-            # starts beside the table, at LOOK_POSE's x and y (the robot waits there at
-            # least as high as the look pose: the reach's first move, to its approach
-            # height, is then never a null move). Traced from above its last place
-            # instead, a pick of the block just set down skipped its reach and came down
-            # slanted from the look pose, knocking it away (helper round 10, v24a)
+            # the robot steps aside after each unit (step_aside), at least as high as the
+            # look pose: the next reach's first move, to its approach height, is never a
+            # null move (traced from above the last place, a pick of the block just set
+            # down skipped its reach and came down slanted onto it: round 10, v24a)
             m.move_hand(LOOK_POSE)
 
     tr = trace(plan, rules, model, on_operator=snap)
@@ -234,10 +232,12 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         done = [u for u in done if u not in redo]
         fresh = remodel(ruleset, eyes.shapes, eyes.shape_of, seen.states, seen.spares,
                         seen.measured, rules.home)
-        # the wrist stays as the last unit left it: a repair that assumed it straight
-        # skipped its turn, opened the jaws across the block's long side to the short
-        # side's width, and came down on it (helper round 9, w97)
+        # the wrist stays as the last unit left it (assumed straight, a repair opened the
+        # jaws across a block's long side to its short side's width: round 9, w97), and the
+        # gripper waits beside the table (at home in the model, a repair's first reach was
+        # skipped as a null move and came down slanted onto a pillar: round 19, r54, r79)
         fresh.wrist = robot.wrist
+        fresh.move_hand(LOOK_POSE)
         todo = []
         for name in in_the_way(redo, goals, fresh):  # e.g. a rider fell onto its support's spot
             unit_x = next(u for u in redo if u.focus == name)

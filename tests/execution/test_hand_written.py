@@ -275,3 +275,16 @@ def test_a_bridge_on_a_tower_that_stood_from_the_start():
     from perception.world.generator import generate
 
     _verified(generate(1060, "nominal", family="bridge").scenario())
+
+
+def test_a_repair_starts_from_beside_the_table():
+    """A tower's middle block is taken away once built and the cap falls onto the base
+    (helper round 19, r54). The repair first sets the cap aside; the model it was traced
+    in had the gripper at home, over the cap, so its reach was skipped as a null move and
+    the jaws came down slanted from beside the table, knocking the cap onto its side
+    (exit 1, 'lies on its side'). The gripper waits beside the table after every unit,
+    and the repair's model now says so: its first fetch begins with a reach."""
+    result = _verified("tower-middle-removed-cap-fallen", exact=False, quiet=False)
+    report = result.execution.report
+    assert {d["object"] for d in report["monitor"]["detections"]} >= {"b"}
+    assert report["monitor"]["repairs"]
