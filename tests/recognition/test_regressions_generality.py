@@ -103,6 +103,10 @@ CASES = {
     # higher of a near tie was named though neither stood on the other
     # (envnodes/search.py grasped: side by side, a tie waits while the hand is high)
     "class2-brick-behind-a-row-of-taller-cubes": "brick-behind-a-row-of-taller-cubes.yaml",
+    # class 3 (helper round 19, r83): a 30 mm cube at the back of the table measured 33 mm
+    # and named the listed 35 mm shape; the naming hint's count reads it as the 30
+    # (vfd/objects_restack.py _one)
+    "class3-heights-30-and-35-at-the-back": "heights-30-and-35-at-the-back.yaml",
 }
 
 
