@@ -31,6 +31,7 @@ from lbw_engine.do.monitor import (
     aside_spot,
     detections,
     in_the_way,
+    in_the_way_of,
     pair_by_shape,
     remodel,
     undone,
@@ -152,9 +153,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
     rules = ruleset.commands
     names = list(eyes.shape_of)
     moving = moving_operations(ruleset.effects)
-    # what the cameras last saw, name -> (shape, centre): the robot watch starts from it,
-    # with the objects the plan does not use (a 150 mm post in front of a cube hid the
-    # cube's pick from the side camera's view of it: helper round 8, v06)
+    # what the cameras last saw, name -> (shape, centre), the unused objects too, starts the
+    # robot watch (a 150 mm post in front of a cube hid its pick: helper round 8, v06)
     hint = {n: (eyes.shape_of.get(n, b.shape), tuple(b.position))
             for n, b in model.bodies.items() if n in names or b.shape in eyes.shapes}
     unit_names = set(unit_of(plan).values())
@@ -199,13 +199,11 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         seen_ops, missed = ([], set()) if watch is None else _compare_ops(
             unit, watch.end(), moving, robot.world.time, out.operations)
         out.detections.extend(seen_ops)
-        # A place the watch did not see is redone once, however well the object landed;
-        # a second miss on the same object is the recognizer's, not the robot's.
+        # a place the watch did not see is redone once (a second miss is the recognizer's)
         dropped = (missed & set(eyes.shape_of)) - suspected  # plan objects only
         suspected |= dropped
-        # the faces the done units aligned, as the final verdict checks them: a block
-        # pushed 4 mm off its partner's face is within the position tolerance, not the
-        # coplanar one, and was only found at the end (helper round 13, v78d)
+        # the faces the done units aligned, as the final verdict checks them (a block pushed
+        # 4 mm off its partner's face was found only at the end: helper round 13, v78d)
         made = alignments_of([op for u in done for op in u.ops])
         fine = {"alignments": [a for a in made if a.partner in unit.expected],
                 "coplanar_tolerance": rules.fine.coplanar_tolerance}
@@ -218,10 +216,12 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
                 for n, st in seen.states.items() if n in eyes.shape_of}
         hint.update({f"{SPARE_PREFIX}{i}": (seen.measured[i].shape, seen.measured[i].position)
                      for i in seen.spares})
-        if verdict.success and not dropped:
+        stuck = in_the_way_of(todo, {n: eyes.shapes[s] for n, s in eyes.shape_of.items()}, {
+            n: st for n, st in seen.states.items() if n.startswith(SPARE_PREFIX)}, robot.world.time)
+        if verdict.success and not dropped and not stuck:
             continue
-        out.detections.extend(detections(unit, verdict.mismatches, robot.world.time))
-        out.rounds += not verdict.success  # a redo for an unseen place is bounded by itself
+        out.detections.extend(detections(unit, verdict.mismatches, robot.world.time) + stuck)
+        out.rounds += not verdict.success or bool(stuck)  # a redo for an unseen place: once
         if out.rounds > MAX_REPAIRS:
             raise TaskFailed(f"still wrong after {MAX_REPAIRS} repairs: "
                              + _why(verdict, dropped))
@@ -236,9 +236,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         # jaws across a block's long side to its short side's width: round 9, w97), and the
         # gripper waits beside the table (at home in the model, a repair's first reach was
         # skipped as a null move and came down slanted onto a pillar: round 19, r54, r79)
-        fresh.wrist = robot.wrist
+        fresh.wrist, todo = robot.wrist, []
         fresh.move_hand(LOOK_POSE)
-        todo = []
         for name in in_the_way(redo, goals, fresh):  # e.g. a rider fell onto its support's spot
             unit_x = next(u for u in redo if u.focus == name)
             aside = aside_plan(plan, unit_x.operator, name, aside_spot(name, fresh, goals),
@@ -252,7 +251,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         tr = trace(plan, rules, fresh, on_operator=snap, roots=roots)
         todo += units(plan, tr.ops, snaps)
         out.model = tr.model
-        again = {u.operator for u in redo} | {u.operator for u in todo if u.focus in wrong}
+        again = {u.operator for u in redo} | {d["operator"] for d in stuck} | {
+            u.operator for u in todo if u.focus in wrong}
         out.repairs.extend({"operator": u.operator, "commands": len(u.commands),
                             "t": round(robot.world.time, 2)}
                            for u in todo if u.operator in again)

@@ -288,3 +288,13 @@ def test_a_repair_starts_from_beside_the_table():
     report = result.execution.report
     assert {d["object"] for d in report["monitor"]["detections"]} >= {"b"}
     assert report["monitor"]["repairs"]
+
+
+def test_an_unused_block_slid_onto_a_goal_is_set_aside_first():
+    """An unused post is slid onto the cube's goal spot after the first unit (helper round
+    19, r77). Nothing the plan uses was off, so nothing was re-traced, and the cube was
+    set down on the post. A pending unit's goal taken by an unused object is a detection
+    ('in the way'); the re-trace sets the post aside before the cube goes there."""
+    report = _verified("unused-post-slid-onto-a-goal", exact=False, quiet=False).execution.report
+    assert [d["kind"] for d in report["monitor"]["detections"]] == ["in the way"]
+    assert report["robot"]["grasps"] == ["b2", "x", "a2"]  # the post, then the cube
