@@ -107,6 +107,14 @@ CASES = {
     # and named the listed 35 mm shape; the naming hint's count reads it as the 30
     # (vfd/objects_restack.py _one)
     "class3-heights-30-and-35-at-the-back": "heights-30-and-35-at-the-back.yaml",
+    # class 2 (helper round 20): 15 mm cubes 10 mm apart along x; 107 mm up, the slanted
+    # approach was 16 mm from its cube and 10 mm from the neighbour, and the neighbour won
+    # the tie test (envnodes/search.py grasped: while high, SLANT_MM)
+    "class2-small-cubes-close-row-along-x": "small-cubes-close-row-along-x.yaml",
+    # class 3 (helper round 20, g3003): a pillar of a 2 x 2 grid touched, judged late with
+    # the hand far off; the tops of pillars behind it filled the holder window (a PICK);
+    # the top view shows the pillar standing (envnodes/sightings.py left_standing)
+    "class3-pillar-touched-in-a-grid": "pillar-touched-in-a-grid.yaml",
 }
 
 

@@ -264,7 +264,8 @@ class ChangeNode(EnvNodeBase):
                 result = APPEARED  # the finger that hid it has let it go
             elif (not act.special and first.get("empty", before) <= EMPTY
                   and self.holder.in_hand(lift, env) >= held
-                  and not self.sights.still_there(act, env, shot, last)):
+                  and not self.sights.still_there(act, env, shot, last)
+                  and not self.sights.left_standing(targets[0], self.hand.hand, env)):
                 result = DISAPPEARED
             elif (not act.special and first.get("empty", before) <= EMPTY
                   and (taken := self.lifted(act, env, hidden=True))

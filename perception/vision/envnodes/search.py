@@ -40,6 +40,11 @@ DECIDE_MM = 60.0
 # one tracked 7 mm over its neighbour 59 mm up, as put on it (helper round 16, BE).
 LAND_MM = 15.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
+# ... and, while the hand is more than DECIDE_MM above them, any within SLANT_MM of it: the
+# approach begins up to 20 mm beside its spot, so high up the nearest block need not be the
+# one it comes down to (15 mm cubes 25 mm apart, the hand 16 mm from its cube and 10 mm
+# from the neighbour, 107 mm up: helper round 20, a PICK read as the neighbour's NO-OP)
+SLANT_MM = 24.0
 LEVEL_MM = 5.0  # ... and of those, one whose top is this much higher than another over it
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
 MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target) lasts longer
@@ -188,7 +193,8 @@ class SearchNode(EnvNodeBase):
         plank can reach into the hand-sized region before the plank does. The blocks
         found and what they rest on are candidates; the one whose centre is nearest the
         hand wins, the upper one on a near tie of blocks one over another; blocks side
-        by side on a near tie wait (WAIT) until the hand is DECIDE_MM above them.
+        by side on a near tie wait (WAIT) until the hand is DECIDE_MM above them. While
+        it is higher, every block within SLANT_MM of the hand is on the tie.
         """
         cands = {n.name: n for n in hits}
         todo = list(hits)
@@ -211,7 +217,9 @@ class SearchNode(EnvNodeBase):
         cands = {name: n for name, n in cands.items() if name not in covered} or cands
         dist = {name: float(np.hypot(*(np.asarray(n.position[:2]) - hand)))
                 for name, n in cands.items()}
-        near = [n for n in cands.values() if dist[n.name] <= min(dist.values()) + TIE_MM]
+        high = float(self.hand.hand[2]) - max(n.top() for n in cands.values()) > DECIDE_MM
+        reach = max(min(dist.values()) + TIE_MM, SLANT_MM if high else 0.0)
+        near = [n for n in cands.values() if dist[n.name] <= reach]
         # of a near tie one over another (a tower's blocks are centred on each other), the
         # upper; side by side, a lower block is no less a candidate (a brick taken from
         # behind a row of taller cubes, 2 mm away: helper round 17, u62)

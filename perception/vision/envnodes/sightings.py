@@ -10,6 +10,8 @@ the environment model (docs/seeing.md).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from lbw_engine.model.env import EnvModel, EnvNode
@@ -39,6 +41,7 @@ PLAIN_VIEW, KEPT = 0.2, 0.5
 # A block of a picked target's stack has left with the hand when a view sees at least KEPT
 # of its outline clear of the hand and of other objects, and at most GONE of that lit.
 GONE = 0.1
+AWAY_MM = 20.0  # a hand this far beside a block's footprint holds nothing standing there
 FACE_PX = 3  # a front face showing fewer pixels than this tells nothing
 
 
@@ -59,19 +62,24 @@ class Sightings:
             (outline & band(img, *HAND_BAND)).sum() >= KEPT * outline.sum()
 
     def seen_at(self, region: Region3D, own: set[str], env: EnvModel,
-                creases: bool = False, face_px: int = FACE_PX) -> bool | None:
+                creases: bool = False, face_px: int = FACE_PX, top: bool = False
+                ) -> bool | None:
         """Whether a block fills ``region`` in the current frame: True if the side view
         sees it plainly with its outline bright, False if a view that sees it plainly
         shows it empty (and none bright), None if no view tells. Objects other than
         ``own`` and the held ones hide what they cover; a front face showing fewer than
-        ``face_px`` pixels tells nothing (``_front_on_support``)."""
+        ``face_px`` pixels tells nothing (``_front_on_support``). With ``top`` (the hand
+        is away from the region, so nothing it lifted hangs over it) the top view may
+        say True as well."""
         self.detector.attention(region)
         shot = self.detector.take(self.sight.frame)
         others = boxes_but(env, own | set(env.held()))
         verdicts = {self._front_on_support(region, others, shot, face_px)} - {None}
         for view, (window,) in self.detector.windows.items():
             cam, img = self.sight.cameras[view], shot.pixels[view]
-            outline, clear = visible_outline(cam, region, window, img, others)
+            part = Region3D((*region.lo[:2], region.hi[2] - 1.0), region.hi) \
+                if top and view == "top" else region
+            outline, clear = visible_outline(cam, part, window, img, others)
             if not outline.any() or clear.sum() < KEPT * outline.sum():
                 continue
             # kept: block faces; gone: not even a crease or the arm's gray is left. The top
@@ -84,7 +92,11 @@ class Sightings:
             if creases:
                 bright = float((clear & silhouette(img)).sum()) / float(clear.sum()) \
                     if (clear & (img >= BLOCK_MIN)).any() else 0.0
-            kept = bright >= KEPT and view == "side"
+            # From above, with the hand away (``top``), whatever is lit in a top face's
+            # outline that no other object explains is the block: its top face, or the
+            # darker sides the camera sees beside it (a 19 mm pillar 115 mm tall: 30 of 64
+            # pixels bright, 26 side-gray, 8 dark)
+            kept = bright >= KEPT if view == "side" else top and lit >= KEPT
             verdicts.add(True if kept else False if lit <= GONE else None)
         return True if True in verdicts else False if False in verdicts else None
 
@@ -113,6 +125,19 @@ class Sightings:
             return None
         shade = float((mask & band(img, *FRONT_BAND)).sum()) / float(mask.sum())
         return True if shade >= KEPT else False if shade <= GONE else None
+
+    def left_standing(self, node: EnvNode, hand: Sequence[float] | None, env: EnvModel
+                      ) -> bool:
+        """Whether the hand is away from ``node``'s footprint (by more than AWAY_MM: what it
+        lifted would hang under it) and the top view shows the block there. A motion judged
+        late (deferred) reads the holder window where the hand is then: a pillar touched in
+        a 2 x 2 grid, judged 200 mm away with the tops of other pillars behind the hand in
+        the window, read as picked (helper round 20, g3003)."""
+        if hand is None or node.position is None or node.size is None:
+            return False
+        if footprints_meet(tuple(hand), node.size, node.position, node.size, -AWAY_MM):
+            return False
+        return self.seen_at(box(node), {node.name}, env, top=True) is True
 
     def still_there(self, act: ActView, env: EnvModel, first: Snapshot, last: Snapshot) -> bool:
         """Whether a view that sees the target plainly shows it unmoved in both snapshots.
