@@ -270,3 +270,43 @@ def test_rearrange_draws_a_deck_that_starts_across_two_piers(seed):
         ends = sorted(w.objects[p].center[0] for p in deck.on)
         assert ends[1] - ends[0] >= 25 + 10  # the table shows between the piers
     assert sc.demonstration[0].obj in decks or sc.demonstration[1].obj in decks
+
+
+def _close_small_pairs(objects, shapes):
+    """Pairs of blocks at most 20 mm wide lying on the table 6-12 mm apart, in line."""
+    small = {n: o for n, o in objects.items() if o.on == ("table",)
+             and max(shapes[o.shape][:2]) <= 20}
+    out = []
+    for a, oa in small.items():
+        for b, ob in small.items():
+            sa, sb = shapes[oa.shape], shapes[ob.shape]
+            for k in (0, 1):
+                gap = abs(oa.center[k] - ob.center[k]) - (sa[k] + sb[k]) / 2
+                if a < b and oa.center[1 - k] == ob.center[1 - k] and 6 <= gap <= 12:
+                    out.append((a, b, "xy"[k]))
+    return out
+
+
+@pytest.mark.parametrize("family,seed,level", [("small", 1013, "2x"), ("twins", 1075, "nominal"),
+                                               ("pillars", 1015, "nominal")])
+def test_families_start_small_blocks_in_a_close_row(family, seed, level):
+    """Helper round 20: 15 mm cubes lying 10 mm apart; the person's approach began nearer
+    a neighbour than its block (assemble._row_up_small, in teach and execute layouts)."""
+    sc = load_text(generate(seed, level, family=family).text)
+    pairs = _close_small_pairs(sc.teach.objects, sc.shapes) + \
+        _close_small_pairs(sc.execute.objects, sc.shapes)
+    assert pairs
+
+
+@pytest.mark.parametrize("family,seed,level", [("gaps", 1007, "2x"), ("pillars", 1016, "2x"),
+                                               ("beams", 1019, "2x")])
+def test_families_touch_a_block_already_placed(family, seed, level):
+    """Helper round 20 (g3003): an empty hand touches a block placed earlier, with nothing
+    on it yet, before the next pick (assemble._touch_a_placed)."""
+    steps = load_text(generate(seed, level, family=family).text).demonstration
+    touched = [i for i, s in enumerate(steps) if s.kind == "touch"
+               and any(p.kind == "place" and p.obj == s.obj for p in steps[:i])]
+    assert touched
+    i = touched[0]
+    assert steps[i + 1].kind == "pick" and steps[i - 1].kind == "place"  # the hand is empty
+    assert not any(p.kind == "place" and steps[i].obj in p.on for p in steps[:i])  # top free

@@ -36,6 +36,10 @@ FIT = 20.0  # mm a stack's top may overhang its base's footprint in total, per a
 BLOCKED_GOAL = 0.15  # share of drafts with an execution object lying on a goal spot
 TOUCHING = 0.15  # share of drafts with two execution objects in side contact
 GRIP_MM = 120.0  # the widest side a touching pair's blocks may be gripped across
+TOUCH_PLACED = 0.15  # share of drafts with an empty-hand touch of a block already placed
+ROWED = 0.5  # share of layouts whose small blocks lying alone start in a close row
+SMALL_MM = 20.0  # ... blocks no wider than this, ROW_GAPS mm apart
+ROW_GAPS = (6, 12)
 INSET_MM = 5.0  # a deck's ends reach this far past the piers it starts on
 
 
@@ -100,6 +104,13 @@ def draw(rng: np.random.Generator, family: str) -> Draft:
         if own.random() < BLOCKED_GOAL else None
     touching = _touch_a_neighbour(own, layouts[1], objects, shapes, taken) \
         if own.random() < TOUCHING else None
+    later = np.random.default_rng(zlib.crc32(repr(("touch", steps)).encode()))
+    if touches < 2 and later.random() < TOUCH_PLACED:
+        touches += _touch_a_placed(later, steps)
+    for lay in layouts:  # each from a generator of its own, as above
+        rowing = np.random.default_rng(zlib.crc32(repr(("row", sorted(lay.items()))).encode()))
+        if rowing.random() < ROWED:
+            _row_up_small(rowing, lay, objects, shapes, taken)
     return Draft(family, pieces, shapes, objects, layouts[0], layouts[1], distract, steps,
                  touches, blocker, touching)
 
@@ -163,6 +174,35 @@ def _touch_a_neighbour(rng: np.random.Generator, layout: dict, objects: dict, sh
         return None
     layout[a] = (at[0], at[1])
     return a, b
+
+
+def _row_up_small(rng: np.random.Generator, layout: dict, objects: dict, shapes: dict,
+                  taken: list) -> list[str]:
+    """Line up two to four small blocks lying alone (at most SMALL_MM wide) in a row along
+    x or y, ROW_GAPS mm apart, on a free spot (helper round 20: 15 mm cubes 10 mm apart
+    along x; the approach began 16 mm beside a cube, nearer its neighbour, and the
+    neighbour was named). Nothing moves when no spot is free. Returns the blocks moved."""
+    small = [n for n in _alone(layout) if max(shapes[objects[n]][:2]) <= SMALL_MM]
+    if len(small) < 2:
+        return []
+    names = [small[int(i)] for i in rng.permutation(len(small))[:int(rng.integers(2, 5))]]
+    axis = int(rng.integers(2))
+    sizes = [shapes[objects[n]] for n in names]
+    gaps = [int(rng.integers(ROW_GAPS[0], ROW_GAPS[1] + 1)) for _ in names[1:]]
+    length = sum(z[axis] for z in sizes) + sum(gaps)
+    width = max(z[1 - axis] for z in sizes)
+    try:
+        cx, cy, _ = free_spot(rng, (length, width) if axis == 0 else (width, length),
+                              _footprints(layout, objects, shapes, set(names)) + list(taken))
+    except Crowded:
+        return []
+    at = (cx, cy)[axis] - length / 2
+    for name, size, gap in zip(names, sizes, [*gaps, 0], strict=True):
+        spot = [cx, cy]
+        spot[axis] = at + size[axis] / 2
+        layout[name] = (float(spot[0]), float(spot[1]))
+        at += size[axis] + gap
+    return names
 
 
 def _add_stacks(rng: np.random.Generator, stacks: dict, picked: list[str], objects: dict,
@@ -257,6 +297,24 @@ def _steps(rng: np.random.Generator, order: list[dict], teach: dict) -> tuple[li
         steps.append({"place": a["obj"], **{k: v for k, v in a.items() if k != "obj"}})
         moved.add(a["obj"])
     return steps, touches
+
+
+def _touch_a_placed(rng: np.random.Generator, steps: list[dict]) -> int:
+    """Insert, before a pick, an empty-hand touch of a block placed earlier with nothing on
+    it yet (helper round 20, g3003: a pillar of a 2 x 2 grid touched before the plate
+    went on; judged late, it read as picked). Returns the touches added (0 or 1)."""
+    placed, covered, spots = [], set(), []
+    for i, step in enumerate(steps):
+        if "pick" in step and i > 0 and "touch" not in steps[i - 1]:
+            spots += [(i, n) for n in placed if n not in covered and n != step["pick"]]
+        if "place" in step:
+            placed.append(step["place"])
+            covered |= {step["on"]} if isinstance(step["on"], str) else set(step["on"])
+    if not spots:
+        return 0
+    i, name = spots[int(rng.integers(len(spots)))]
+    steps.insert(i, {"touch": name})
+    return 1
 
 
 def _names(on: str | list[str], prefix: str = "") -> str:
