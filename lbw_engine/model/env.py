@@ -324,6 +324,13 @@ class EnvModel:
         for moving in (name, *self.supported_by(name)):
             self.nodes[moving].position = _add(self.nodes[moving].position, delta)
 
+    def hang(self, name: str, pos: Sequence[float]) -> None:
+        """Held ``name`` (and what rests on it) is at ``pos`` now, and keeps that offset from
+        the hand: a detector measured where the block hangs after its pick (actions.json's
+        positions; before, a picked block stayed at its table spot in the model)."""
+        self.shove(name, _sub(_vec(pos), self.nodes[name].position))
+        self.follow([name])
+
     def hold(self, name: str) -> None:
         """The hand holds ``name``; it and what rests on it follow the hand."""
         self.relations.append(Relation(self.rules.hold_relation, HAND, name))

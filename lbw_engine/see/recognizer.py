@@ -309,6 +309,10 @@ class Recognizer:
         if node.operation in self.rules.effects:
             node.bound = binds = actmodel.effect_bindings(self.rules, node, self.env)
             apply_effect(self.env, self.rules.effects[node.operation], binds, node.measured)
+            for found in compared.values():  # where a comparison measured a held object now
+                for name, pos in (found.positions if found is not None else {}).items():
+                    if name in self.env.held():
+                        self.env.hang(name, pos)
         node.final_state = self.env.snapshot(node.nodes())
         if node.initial_state is not None:
             node.initial_state = node.initial_state.restricted(self.env.copied(node.nodes()))

@@ -52,11 +52,10 @@ from perception.vision.vfd.change import (
 PLACE_MARGIN_MM = 25.0  # snapshot region around a place spot (approach slant, align slide)
 PICK_MARGIN_MM = 8.0
 HOLDING, EMPTY = 0.6, 0.1  # block fraction of the holder window: an object held / none
-HOLD_SHARE = 0.35  # of the share a held block's image covers: a small block held (held_fill)
 # (a grasped block fills it, 0.9-1; after a touch a block below can show in it, ~0.3)
+HOLD_SHARE = 0.35  # of the share a held block's image covers: a small block held (held_fill)
 # A place's change threshold is never asked of fewer changed pixels than a third of this
-# (sensor noise flips single pixels; a 10 mm cube fully in view changes about 10).
-MIN_CHANGE_PX = 6
+MIN_CHANGE_PX = 6  # (noise flips single pixels; a 10 mm cube fully in view changes ~10)
 LOAD_MM = 3.0  # the carried block's outline grown by this (tremor, tracking)
 VACANT_PX = 20  # front-face pixels that may show a let-go spot empty (to refuse a shade)
 BESIDE_MM = 10.0  # a block this close beside a picked target may be the one the hand took
@@ -286,9 +285,11 @@ class ChangeNode(EnvNodeBase):
             pos, found = where_placed(self, act, env, pos, last, let_go, top)
         elif result == APPEARED and top is not None:
             pos = top  # x and y from above; nothing better to fit it to
+        up = {}  # where the picked block hangs now (actions.json's PICK final state)
         if result == DISAPPEARED and not act.special:
             found = taken or self.lifted(act, env)
-        return Detection(value=result, found=found,
+            up = self.hand.lifted([env.nodes[n] for n in found[:1]] or targets_of(act, env)[:1])
+        return Detection(value=result, found=found, positions=up,
                          position=tuple(float(c) for c in pos) if pos is not None else None)
 
     def lifted(self, act: ActView, env: EnvModel, hidden: bool = False) -> tuple[str, ...]:

@@ -329,6 +329,15 @@ class HandState:
         grasp = min(over, key=lambda s: float(s.hand[2]))
         return Grip(rest - grasp.hand, rest - grasp.spot, grasp.t)
 
+    def lifted(self, picked: list[EnvNode]) -> dict[str, tuple[float, ...]]:
+        """Where the centre of the block the hand has just picked up (the first of
+        ``picked``) is now: the hand plus the grip it closed with; {} without the hand or
+        the block's rest position."""
+        node = picked[0] if picked else None
+        if self.hand is None or node is None or node.name not in self._rest:
+            return {}
+        return {node.name: tuple(float(v) for v in self.hand + self._measure_grip(node).hand)}
+
     def held_fill(self, box: Region3D) -> float:
         """Share of the holder window that the side-view image of a held block's ``box``
         covers (its bounding rectangle: the robot's 16 mm cube showed 0.2 of it, helper
