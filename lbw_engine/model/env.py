@@ -326,8 +326,8 @@ class EnvModel:
 
     def hang(self, name: str, pos: Sequence[float]) -> None:
         """Held ``name`` (and what rests on it) is at ``pos`` now, and keeps that offset from
-        the hand: a detector measured where the block hangs after its pick (actions.json's
-        positions; before, a picked block stayed at its table spot in the model)."""
+        the hand: a detector measured where the block hangs once taken up (actions.json's
+        positions; before, a block taken stayed at its table spot in the model)."""
         self.shove(name, _sub(_vec(pos), self.nodes[name].position))
         self.follow([name])
 

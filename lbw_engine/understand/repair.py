@@ -6,6 +6,7 @@ recognition the sequence runs through rules/domain.yaml (``consistency``). At
 its first inconsistent step p, every single change at or before p is tried:
 
 * delete: operation k goes (the eye saw a motion the hand did not make);
+* narrow: a slot of k that names several objects names one of them;
 * delete and rejoin: k goes, and the operations on both sides of it, the same
   operation with the same base and special, become one (a spurious local
   motion cut one motion in two; Table VII: a motion ends where the next begins);
@@ -129,6 +130,9 @@ def _record(entries: list[Entry], change: Change, was: list[Entry], after: Entry
             "now": [copy.deepcopy(r) for r in change.now], "why": why}
 
 
+SLOTS = ("base", "target", "special")  # actions.json's slots of an operation (design.md)
+
+
 def _choose(rules: RuleSet, start: Start, binder: Binder, entries: list[Entry], run: Run,
             first: Finding, skipped: set[int], notes: dict[str, str]
             ) -> tuple[Change, list[Entry], str] | None:
@@ -179,6 +183,13 @@ def _changes(rules: RuleSet, entries: list[Entry], p: int) -> Iterator[Change]:
         recorded = _difference(rec)
         if not any(recorded):
             yield Change(k, 1, (), f"deleting {name}", entries[k].origin)
+            # ... or it acted on one of the several objects a slot names (a carried beam
+            # brought down onto one pillar reached the next one's edge: helper round 20,
+            # r07, whose touch was deleted; with both readings, no change is made)
+            for slot in SLOTS:
+                for one in rec.get(slot) or [] if len(rec.get(slot) or []) > 1 else []:
+                    yield Change(k, 1, ({**copy.deepcopy(rec), slot: [one]},),
+                                 f"reading {name}'s {slot} as {one} alone", entries[k].origin)
             if 0 < k < len(entries) - 1 and _same_motion(entries[k - 1].record,
                                                         entries[k + 1].record):
                 a, b = entries[k - 1].record, entries[k + 1].record

@@ -80,6 +80,19 @@ def touch_while_carrying(ops):
             motion("no09", "NO-OP", ["medium-brick4"], ["medium-brick3"], state), *ops[k:]]
 
 
+def touch_two_while_carrying(ops):
+    """As ``touch_while_carrying``, the touch naming medium-brick4 and the block beside it
+    (helper round 20, r07: a carried beam brought down onto one pillar reached the next
+    one's edge). Deleting the touch, or reading it as a touch of either block alone, fit
+    alike: none is made, and the touch is reported."""
+    k = at(ops, "reach-with-obj02")
+    state = with_brick4(ops, k)
+    both = ["medium-brick4", "short-brick1"]
+    return [*ops[:k], motion("reach-with-obj09", "REACH-WITH-OBJ", both, ["medium-brick3"],
+                             state),
+            motion("no09", "NO-OP", both, ["medium-brick3"], state), *ops[k:]]
+
+
 def reach_elsewhere_first(ops):
     """A REACH to medium-brick4 just before reach02: dropping it or reading it as the hand
     leaving both fit."""
@@ -112,6 +125,7 @@ ROWS = [
      [(5, ["no09"], [("pick02", "PICK")])], True, 0),
     ("touch-while-carrying-is-no-slip", touch_while_carrying, [], False, 0),
     ("two-changes-fit", reach_elsewhere_first, [], False, 1),
+    ("touch-naming-two-blocks", touch_two_while_carrying, [], False, 2),
     ("no-change-fits", fetch_unseen, [], False, 1),
     ("two-slips-two-repairs", two_carries_cut,
      [(6, ["reach-with-obj02a", "no09", "reach-with-obj02"],

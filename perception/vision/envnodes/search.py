@@ -40,10 +40,13 @@ DECIDE_MM = 60.0
 # one tracked 7 mm over its neighbour 59 mm up, as put on it (helper round 16, BE).
 LAND_MM = 15.0
 TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the nearest tie
-# ... and, while the hand is more than DECIDE_MM above them, any within SLANT_MM of it: the
-# approach begins up to 20 mm beside its spot, so high up the nearest block need not be the
-# one it comes down to (15 mm cubes 25 mm apart, the hand 16 mm from its cube and 10 mm
-# from the neighbour, 107 mm up: helper round 20, a PICK read as the neighbour's NO-OP)
+# ... and, while the hand is more than DECIDE_MM above them, any within SLANT_MM of it on
+# the far side of the nearest (the hand between them): the approach begins up to 20 mm
+# beside its spot, so high up the nearest block need not be the one it comes down to
+# (15 mm cubes 25 mm apart, the hand 16 mm from its cube and 10 mm from the neighbour,
+# 107 mm up: helper round 20, a PICK read as the neighbour's NO-OP). A hand beyond the
+# nearest decides at once, as before (the robot, gripping a 15 mm cube off centre away
+# from the one it touches, hovered 7 mm outside it: bench 1050, its PICK unseen)
 SLANT_MM = 24.0
 LEVEL_MM = 5.0  # ... and of those, one whose top is this much higher than another over it
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
@@ -194,7 +197,8 @@ class SearchNode(EnvNodeBase):
         found and what they rest on are candidates; the one whose centre is nearest the
         hand wins, the upper one on a near tie of blocks one over another; blocks side
         by side on a near tie wait (WAIT) until the hand is DECIDE_MM above them. While
-        it is higher, every block within SLANT_MM of the hand is on the tie.
+        it is higher, every block within SLANT_MM of the hand that it lies towards from
+        the nearest is on the tie.
         """
         cands = {n.name: n for n in hits}
         todo = list(hits)
@@ -218,8 +222,10 @@ class SearchNode(EnvNodeBase):
         dist = {name: float(np.hypot(*(np.asarray(n.position[:2]) - hand)))
                 for name, n in cands.items()}
         high = float(self.hand.hand[2]) - max(n.top() for n in cands.values()) > DECIDE_MM
-        reach = max(min(dist.values()) + TIE_MM, SLANT_MM if high else 0.0)
-        near = [n for n in cands.values() if dist[n.name] <= reach]
+        first = np.asarray(cands[min(dist, key=dist.__getitem__)].position[:2], float)
+        near = [n for n in cands.values() if dist[n.name] <= min(dist.values()) + TIE_MM
+                or (high and dist[n.name] <= SLANT_MM  # the hand between it and the nearest
+                    and float(np.dot(hand - first, np.asarray(n.position[:2]) - first)) > 0)]
         # of a near tie one over another (a tower's blocks are centred on each other), the
         # upper; side by side, a lower block is no less a candidate (a brick taken from
         # behind a row of taller cubes, 2 mm away: helper round 17, u62)
