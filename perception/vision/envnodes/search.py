@@ -48,6 +48,11 @@ TIE_MM = 6.0  # empty hand: candidates this much farther from the hand than the 
 # nearest decides at once, as before (the robot, gripping a 15 mm cube off centre away
 # from the one it touches, hovered 7 mm outside it: bench 1050, its PICK unseen)
 SLANT_MM = 24.0
+# ... but a hand within OVER_MM of the nearest block's centre is over it: the robot comes
+# straight down at 270 mm/s, and a search made to wait decided at the grasp, too late for
+# its watch to see the PICK (bench 1090: 17 mm cubes 8 mm apart, the hand 4 mm off one).
+# A person's slant can also end over the neighbour: 1013 at 2x is read wrong (stop 38).
+OVER_MM = 5.0
 LEVEL_MM = 5.0  # ... and of those, one whose top is this much higher than another over it
 NEAR_SPEED = 1.5  # :Near only while the hand is slower than this many V_H1 (arriving)
 MIN_TRANSFER_S = 0.3  # a Transfer (hand lifted, carried, slowed above a target) lasts longer
@@ -221,7 +226,8 @@ class SearchNode(EnvNodeBase):
         cands = {name: n for name, n in cands.items() if name not in covered} or cands
         dist = {name: float(np.hypot(*(np.asarray(n.position[:2]) - hand)))
                 for name, n in cands.items()}
-        high = float(self.hand.hand[2]) - max(n.top() for n in cands.values()) > DECIDE_MM
+        high = float(self.hand.hand[2]) - max(n.top() for n in cands.values()) > DECIDE_MM \
+            and min(dist.values()) > OVER_MM
         first = np.asarray(cands[min(dist, key=dist.__getitem__)].position[:2], float)
         near = [n for n in cands.values() if dist[n.name] <= min(dist.values()) + TIE_MM
                 or (high and dist[n.name] <= SLANT_MM  # the hand between it and the nearest
