@@ -20,12 +20,13 @@ from dataclasses import dataclass, field, replace
 
 from lbw_engine.do.clearing import table_spots
 from lbw_engine.do.matching import Measured
+from lbw_engine.do.placement import occupies
 from lbw_engine.do.plan import Plan, Relation, action_names, parents
 from lbw_engine.do.tracing import TracedOp
 from lbw_engine.do.verification import ObjectState
 from lbw_engine.errors import TaskFailed
 from lbw_engine.model.env import Body, EnvModel
-from lbw_engine.model.geometry import TABLE, Vec, footprints_meet, overlap
+from lbw_engine.model.geometry import TABLE, Vec, footprints_meet
 from lbw_engine.rules import RuleSet
 
 UNIT_CLASS = "ACHIEVE"  # plan.json's class of the operator a unit executes
@@ -120,7 +121,7 @@ def in_the_way_of(todo: Sequence[Unit], sizes: Mapping[str, Vec],
                  "observed": [round(float(v), 1) for v in st.position], "t": round(t, 2),
                  "kind": "in the way"}
                 for name, st in spares.items()
-                if overlap(goal, sizes[u.focus], st.position, st.size, tol=1.5)]
+                if occupies(goal, sizes[u.focus], st.position, st.size)]
     return out
 
 

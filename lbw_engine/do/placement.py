@@ -27,6 +27,7 @@ NOT_OBJECTS = frozenset({TABLE, "hand"})
 LEVEL_MM = 2.0  # a block whose top is this near the supports' is level with them
 REACH_MM = 5.0  # a placed block is moved at most this far off such a block
 CLEAR_MM = 2.0  # ... to this far beside it (the robot sets blocks down within a mm or so)
+OCCUPY_MM = 1.5  # a body this deep in an object's goal box is in its way there
 
 
 def taught_positions(si: Sequence[Relation], support: Collection[str],
@@ -239,12 +240,17 @@ def _centre(points: Iterable[Vec]) -> tuple[float, float]:
     return (sum(p[0] for p in ps) / len(ps), sum(p[1] for p in ps) / len(ps))
 
 
+def occupies(goal: Vec, size: Vec, position: Vec, body_size: Vec) -> bool:
+    """Whether a body at ``position`` is in the way of a box of ``size`` at ``goal``."""
+    return overlap(goal, size, position, body_size, tol=OCCUPY_MM)
+
+
 def occupants(goal: Vec, focus: str, model: EnvModel) -> list[str]:
     """The objects in the way of ``focus`` (and what rides on it) at ``goal``."""
     moving = {focus, *model.supported_by(focus)}
     size = model.bodies[focus].size
     return [name for name, b in model.bodies.items()
-            if name not in moving and overlap(goal, size, b.position, b.size, tol=1.5)]
+            if name not in moving and occupies(goal, size, b.position, b.size)]
 
 
 def _check_reach(goal: Vec, focus: str, supports: Sequence[str], model: EnvModel) -> None:

@@ -187,7 +187,8 @@ def _changes(rules: RuleSet, entries: list[Entry], p: int) -> Iterator[Change]:
             # brought down onto one pillar reached the next one's edge: helper round 20,
             # r07, whose touch was deleted; with both readings, no change is made)
             for slot in SLOTS:
-                for one in rec.get(slot) or [] if len(rec.get(slot) or []) > 1 else []:
+                several = rec.get(slot) or []
+                for one in several if len(several) > 1 else []:
                     yield Change(k, 1, ({**copy.deepcopy(rec), slot: [one]},),
                                  f"reading {name}'s {slot} as {one} alone", entries[k].origin)
             if 0 < k < len(entries) - 1 and _same_motion(entries[k - 1].record,

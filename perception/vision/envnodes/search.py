@@ -226,10 +226,11 @@ class SearchNode(EnvNodeBase):
         cands = {name: n for name, n in cands.items() if name not in covered} or cands
         dist = {name: float(np.hypot(*(np.asarray(n.position[:2]) - hand)))
                 for name, n in cands.items()}
+        nearest = min(dist, key=dist.__getitem__)
         high = float(self.hand.hand[2]) - max(n.top() for n in cands.values()) > DECIDE_MM \
-            and min(dist.values()) > OVER_MM
-        first = np.asarray(cands[min(dist, key=dist.__getitem__)].position[:2], float)
-        near = [n for n in cands.values() if dist[n.name] <= min(dist.values()) + TIE_MM
+            and dist[nearest] > OVER_MM
+        first = np.asarray(cands[nearest].position[:2], float)
+        near = [n for n in cands.values() if dist[n.name] <= dist[nearest] + TIE_MM
                 or (high and dist[n.name] <= SLANT_MM  # the hand between it and the nearest
                     and float(np.dot(hand - first, np.asarray(n.position[:2]) - first)) > 0)]
         # of a near tie one over another (a tower's blocks are centred on each other), the
