@@ -19,10 +19,10 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import partial
-from itertools import permutations
 from typing import Any
 
 from lbw_engine.do.expander import Command
+from lbw_engine.do.fallen import dims, on_side, tilted, tipped
 from lbw_engine.do.matching import Measured
 from lbw_engine.do.monitor import (
     SPARE_PREFIX,
@@ -30,6 +30,7 @@ from lbw_engine.do.monitor import (
     aside_plan,
     aside_spot,
     detections,
+    hidden_under,
     in_the_way,
     in_the_way_of,
     pair_by_shape,
@@ -56,10 +57,6 @@ from lbw_engine.rules import RuleSet
 LOOK_POSE = (-540.0, 200.0, 150.0)  # world mm: the gripper outside both cameras' views
 LOOK_SETTLE_S = 0.5  # s the world runs before a look: a falling block comes to rest
 NAME_GATE_MM = 15.0  # a measurement this near an expected place names its object at once
-TOPPLED_MM = 12.0  # a block seen this far off its shape's extents has fallen over
-# a block on the table (bottom within ON_TABLE_MM of it) fits lying on a side this much
-# better than upright, its height this far off: it has fallen over (``_tipped``)
-TIPPED_MM, ON_TABLE_MM = 6.0, 4.0
 MAX_REPAIRS = 4  # repairs per run (bounded retries)
 
 
@@ -181,6 +178,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
     out.model = tr.model
     done: list[Unit] = []
     suspected: set[str] = set()  # objects redone once for an unseen place
+    hid: set[str] = set()  # objects taken once to be hidden under another (hidden_under)
+    sizes = {n: eyes.shapes[s] for n, s in eyes.shape_of.items()}
     while todo:
         unit = todo.pop(0)
         out.units += 1
@@ -216,8 +215,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
                 for n, st in seen.states.items() if n in eyes.shape_of}
         hint.update({f"{SPARE_PREFIX}{i}": (seen.measured[i].shape, seen.measured[i].position)
                      for i in seen.spares})
-        stuck = in_the_way_of(todo, {n: eyes.shapes[s] for n, s in eyes.shape_of.items()}, {
-            n: st for n, st in seen.states.items() if n.startswith(SPARE_PREFIX)}, robot.world.time)
+        stuck = in_the_way_of(todo, sizes, {n: st for n, st in seen.states.items()
+                                            if n.startswith(SPARE_PREFIX)}, robot.world.time)
         if verdict.success and not dropped and not stuck:
             continue
         out.detections.extend(detections(unit, verdict.mismatches, robot.world.time) + stuck)
@@ -230,8 +229,11 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         redo = undone(done, wrong, plan_supports)
         rest = todo
         done = [u for u in done if u not in redo]
+        hidden = hidden_under([n for n in sizes if n not in seen.states and n not in hid],
+                              unit.expected, sizes, seen.measured)
+        hid |= set(hidden)
         fresh = remodel(ruleset, eyes.shapes, eyes.shape_of, seen.states, seen.spares,
-                        seen.measured, rules.home)
+                        seen.measured, rules.home, hidden)
         # the wrist stays as the last unit left it (assumed straight, a repair opened the
         # jaws across a block's long side to its short side's width: round 9, w97), and the
         # gripper waits beside the table (at home in the model, a repair's first reach was
@@ -318,8 +320,6 @@ def look_twice(eyes: Eyes, expected: Mapping[str, Any],
 def _rect(cam: Any, center: Any, size: Any) -> tuple[int, int, int, int]:
     """The whole pixels around a box's image in camera ``cam`` (its image rectangle,
     perception.vision.vfd.objects_pieces.box_rect, widened to pixel edges)."""
-    import math
-
     from perception.vision.vfd.objects_pieces import box_rect
 
     u0, v0, u1, v1 = box_rect(cam, center, size)
@@ -339,58 +339,14 @@ def _upright(names: set[str], seen: Look, eyes: Eyes) -> None:
     for name in sorted(names):
         want = eyes.shapes[eyes.shape_of[name]]
         st = seen.states.get(name)
-        lying = [st.size] if st is not None and (_on_side(st.size, want) or _tilted(
-            st.size, want) or _tipped(st.position, st.size, want)) else []
+        lying = [st.size] if st is not None and (on_side(st.size, want) or tilted(
+            st.size, want) or tipped(st.position, st.size, want)) else []
         if st is None:
             lying = [m.size for i, m in enumerate(seen.measured) if i in seen.spares
-                     and (_on_side(m.size, want) or _tipped(m.position, m.size, want))]
+                     and (on_side(m.size, want) or tipped(m.position, m.size, want))]
         if lying:
-            raise TaskFailed(f"'{name}' lies on its side (seen {_dims(lying[0])} mm, its shape "
-                             f"is {_dims(want)} mm); the robot cannot stand it up")
-
-
-def _on_side(size: Any, want: Any) -> bool:
-    """Extents that are the shape's in another order (within the tolerance), not upright."""
-    same = all(abs(a - b) <= TOPPLED_MM for a, b in zip(sorted(size), sorted(want), strict=True))
-    return same and max(abs(size[k] - want[k]) for k in (0, 1)) > TOPPLED_MM
-
-
-def _tilted(size: Any, want: Any) -> bool:
-    """Extents of the shape turned part way over in the x-z plane (as pymunk turns
-    blocks): its y extent kept, x and z those of a turned L x H rectangle (a plank leaning
-    on a pillar, seen 139 x 32 x 80 for 160 x 30 x 15)."""
-    if abs(size[1] - want[1]) > TOPPLED_MM:
-        return False
-    length, height = want[0], want[2]
-    upright = abs(size[0] - length) + abs(size[2] - height)
-    # half a radian or more from upright and from lying (``_on_side``): a block turned
-    # less reads within a misreading of either (a cube read 45 x 40 x 47 fitted 0.2 rad)
-    for a in (0.5 + k * (math.pi / 2 - 1.0) / 20 for k in range(21)):
-        dx = abs(size[0] - (length * math.cos(a) + height * math.sin(a)))
-        dz = abs(size[2] - (length * math.sin(a) + height * math.cos(a)))
-        if max(dx, dz) <= TOPPLED_MM and dx + dz + TIPPED_MM < upright:
-            return True
-    return False
-
-
-def _tipped(position: Any, size: Any, want: Any) -> bool:
-    """A block on the table whose three extents are its shape's with another axis upright,
-    clearly better than upright (helper round 5, t35: a 20 x 70 x 30 block on its side,
-    seen 30 x 70 x 20, is off by 10 mm per axis, under TOPPLED_MM)."""
-    if position[2] - size[2] / 2.0 > ON_TABLE_MM or abs(size[2] - want[2]) <= TIPPED_MM:
-        return False
-    upright = sum(abs(a - b) for a, b in zip(size, want, strict=True))
-    lying, worst = min(((sum(d), max(d)) for p in permutations(want) if p[2] != want[2]
-                        for d in [[abs(a - b) for a, b in zip(size, p, strict=True)]]),
-                       default=(math.inf, math.inf))
-    # and the lying reading must fit on each axis: a plank read 42 x 30 x 46 (three
-    # blocks' columns merged) fits lying "better" than upright, and fits neither (AL)
-    return lying + TIPPED_MM < upright and worst <= TOPPLED_MM  # a cube: never
-
-
-def _dims(size: Any) -> str:
-    """A size for messages."""
-    return " x ".join(f"{v:.0f}" for v in size)
+            raise TaskFailed(f"'{name}' lies on its side (seen {dims(lying[0])} mm, its shape "
+                             f"is {dims(want)} mm); the robot cannot stand it up")
 
 
 def _why(verdict: Verdict, dropped: set[str]) -> str:

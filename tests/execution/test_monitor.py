@@ -312,11 +312,11 @@ def test_a_small_block_set_down_by_the_robot_is_seen_placed(tmp_path, capsys, na
 ], ids=["oblong-on-its-side", "oblong-upright", "cube", "cube-noisy", "cube-read-low",
         "off-the-table", "a-misreading-fits-no-orientation"])
 def test_which_blocks_on_the_table_have_tipped(position, size, want, tipped):
-    """monitor._tipped: fault bench 5004, 5007, 7005 and 7008 crashed on a cube, whose
+    """fallen.tipped: fault bench 5004, 5007, 7005 and 7008 crashed on a cube, whose
     shape has no other axis that could be up (an empty min)."""
-    from lbw_engine.pipeline.monitor import _tipped
+    from lbw_engine.do.fallen import tipped
 
-    assert _tipped(position, size, want) is tipped
+    assert tipped(position, size, want) is tipped
 
 
 @pytest.mark.parametrize(("size", "want", "tilted"), [
@@ -339,9 +339,9 @@ def test_which_readings_are_a_block_turned_over(size, want, tilted):
     shape's turned part way in the x-z plane or in another order (a block on its side on
     the table is also ``_tipped``'s), not any other footprint (round 15, AL: a misread
     cube was said to lie on its side and a repairable run ended)."""
-    from lbw_engine.pipeline.monitor import _on_side, _tilted
+    from lbw_engine.do.fallen import on_side, tilted
 
-    assert (_tilted(size, want) or _on_side(size, want)) is tilted
+    assert (tilted(size, want) or on_side(size, want)) is tilted
 
 
 # (bench seed, level, family, detections at most, what the robot watch missed)
