@@ -189,6 +189,18 @@ class Gripper:
                            "finger-" + ("left" if side < 0 else "right")))
         return out
 
+    def pressing(self, h: float) -> float:
+        """The force (g mm/s^2) the blocks push back on the fingers with, over the last
+        physics substep of length ``h`` s: what a wrist force sensor reads."""
+        total = [0.0]
+
+        def add(arbiter: pymunk.Arbiter) -> None:
+            total[0] += abs(arbiter.total_impulse)
+
+        for _, body, _ in self.fingers:
+            body.each_arbiter(add)
+        return total[0] / h
+
     def finger_y_range(self, side: int) -> tuple[float, float]:
         """The y-extent of one finger (mm): the whole depth for x-jaws, its own for y-jaws."""
         g = self.geometry

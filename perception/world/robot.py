@@ -26,6 +26,10 @@ from perception.world.physics import World
 
 Vec3 = tuple[float, float, float]
 FINGERTIP = TIP  # mm from the grip centre down to the fingertips (commands.yaml gripper.tip)
+# The arm stops a downward move when its fingers are pushed back harder than this (g mm/s^2,
+# the weight of 0.5 kg): kinematic fingers lowered onto a block dropped in the way crushed
+# it into the one below and flung that off the table (helper round 21, f01).
+PRESS_LIMIT = 500.0 * 9810.0
 
 
 @dataclass
@@ -35,6 +39,7 @@ class RobotLog:
     executed: int = 0
     grasps: list[str | None] = field(default_factory=list)  # held block after each close-hand
     time: float = 0.0
+    stops: int = 0  # downward moves cut short by the force limit (PRESS_LIMIT)
 
 
 class Robot:
@@ -92,11 +97,17 @@ class Robot:
         # Minimum-jerk profile: peak speed 1.875 · dist / T.
         duration = max(0.2, 1.875 * dist / self.speed)
         steps = max(1, math.ceil(duration / self.dt))
+        down = goal[2] < start[2] - 1.0
         for k in range(1, steps + 1):
             s = k / steps
             f = 10 * s**3 - 15 * s**4 + 6 * s**5
             self.gripper.move_to(tuple(start[i] + (goal[i] - start[i]) * f for i in range(3)))
             self._step()
+            if down and self.gripper.pressing(self.dt / self.world.substeps) > PRESS_LIMIT:
+                # a protective stop: the fingers came down on something in the way
+                self.gripper.move_to(self.gripper.position)
+                self.log.stops += 1
+                break
         self._wait(lambda: self.gripper.settled, 1.0)
 
     @property
