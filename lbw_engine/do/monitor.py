@@ -31,6 +31,7 @@ from lbw_engine.rules import RuleSet
 
 UNIT_CLASS = "ACHIEVE"  # plan.json's class of the operator a unit executes
 SPARE_PREFIX = "unused:"
+HIDDEN_MM = 5.0  # a block whose top is no lower than this under another's may hide it
 
 
 @dataclass
@@ -144,18 +145,40 @@ def undone(done: Sequence[Unit], wrong: set[str], plan_supports: Mapping[str, tu
     return [u for u in done if u.focus in bad and last.get(u.focus) is u]
 
 
+def hidden_under(missing: Iterable[str], expected: Mapping[str, Vec],
+                 sizes: Mapping[str, Vec], measured: Sequence[Measured]) -> dict[str, Vec]:
+    """Of the plan objects the cameras did not find, those that may lie hidden where the
+    trace expects them: a measured block over that spot, its top above theirs (a beam
+    fallen across a pillar, a tower whose base was slid from under it: helper round 21,
+    f02, f12, f13). Each is taken to be there, so the repair moves what lies over it and
+    looks again; it is not declared gone while something covers it."""
+    out = {}
+    for name in missing:
+        at = expected.get(name)
+        if at is not None and any(
+                footprints_meet(at, sizes[name], m.position, m.size, tol=0.0)
+                and m.position[2] + m.size[2] / 2 >= at[2] + sizes[name][2] / 2 - HIDDEN_MM
+                for m in measured):
+            out[name] = at
+    return out
+
+
 def remodel(rules: RuleSet, shapes: Mapping[str, Sequence[float]], shape_of: Mapping[str, str],
             states: Mapping[str, ObjectState], spares: Sequence[int],
-            measured: Sequence[Measured], home: Vec) -> EnvModel:
+            measured: Sequence[Measured], home: Vec, hidden: Mapping[str, Vec] | None = None
+            ) -> EnvModel:
     """The environment model of the measured state (Sec. VII-A, matched again).
 
-    A plan object the cameras no longer see takes a spare of its shape (an
-    object the plan does not use); with none left the task cannot be done.
+    A plan object the cameras no longer see is where ``hidden`` says it may lie under
+    another block (``hidden_under``), or takes a spare of its shape (an object the plan
+    does not use); with neither the task cannot be done.
     """
     bodies: dict[str, Body] = {}
     free = list(spares)
     for name, shape in shape_of.items():
         st = states.get(name)
+        if st is None and hidden and name in hidden:
+            st = ObjectState(tuple(hidden[name]), tuple(shapes[shape]))
         if st is None:
             k = next((i for i in free if measured[i].shape == shape), None)
             if k is None:
