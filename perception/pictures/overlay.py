@@ -158,7 +158,8 @@ class ExecutionRecorder:
             return "execution", ["robot executing the plan"], []
         cmd = self.robot.current.text() if self.robot.current is not None else "-"
         lines = [f"detected: {d['object']} ({d.get('kind', '?')}) after {d['operator']}, "
-                 f"expected {d['expected']}, seen {d['observed']}" for d in mon.detections]
+                 f"expected {_say(d['expected'])}, seen {_say(d['observed'])}"
+                 for d in mon.detections]
         lines += [f"repair: {r['operator']} again, {r['commands']} commands"
                   for r in mon.repairs]
         return (f"{mon.current or '-'}: {cmd}", lines[-4:] or ["monitor: as expected"],
@@ -183,3 +184,13 @@ class ExecutionRecorder:
     def close(self) -> None:
         """Finish the video file."""
         self.out.close()
+
+
+def _say(value: Any) -> str:
+    """A detection's expected or observed value for the panel: numbers in whole mm (a
+    list's numpy floats printed as np.float64(29.2): helper round 21)."""
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_say(v) for v in value) + "]"
+    if isinstance(value, float):
+        return f"{value:.0f}"
+    return str(value)

@@ -127,3 +127,18 @@ def test_execution_recorder_frame_rate(fps, frames):
         world.step(1 / 60)
         recorder(world)
     assert recorder.rendered == frames
+
+
+def test_execution_panel_prints_detections_in_whole_mm():
+    """Helper round 21: a detection's numpy floats showed as np.float64(29.2) on the video."""
+    from types import SimpleNamespace
+
+    rec = ExecutionRecorder.__new__(ExecutionRecorder)
+    det = {"object": "s", "kind": "position", "operator": "achieve01",
+           "expected": [np.float64(0.4), 190.0, 10.0], "observed": [np.float64(29.2), 190.1, 9.6]}
+    rec.monitor = SimpleNamespace(detections=[det], repairs=[], current="achieve01")
+    rec.robot = SimpleNamespace(current=None)
+    rec.eyes = SimpleNamespace(windows=[])
+    _, lines, _ = rec._panel()
+    assert lines == ["detected: s (position) after achieve01, expected [0, 190, 10], "
+                     "seen [29, 190, 10]"]
