@@ -1,5 +1,7 @@
 """lbw bench --faults: the issue's figures from per-run records (issue #13)."""
 
+import pytest
+
 from lbw_engine.cli.bench_faults import format_faults, summarize_faults
 
 
@@ -49,3 +51,18 @@ def test_figures():
     assert "faults detected:                3/4 (75%) (+1 on objects the plan does not use)" in text
     assert "cameras agree with the truth:   5/6 (83%)" in text
     assert "runs: 10, crashed: 1, scenarios that gave no plan: 1, plans that fail" in text
+
+
+@pytest.mark.parametrize("fault, must", [
+    pytest.param({"kind": "drop"}, True, id="a drop"),
+    pytest.param({"kind": "remove", "object": "x-a"}, True, id="a remove of a used object"),
+    pytest.param({"kind": "remove", "object": "x-other"}, False, id="a remove of an unused one"),
+    pytest.param({"kind": "displace", "object": "x-a", "moved_mm": 9.0}, True,
+                 id="a displace past the tolerance"),
+    pytest.param({"kind": "displace", "object": "x-a", "moved_mm": 3.1}, False,
+                 id="a nudge stopped by a neighbour after 3 mm"),
+])
+def test_which_faults_must_be_detected(fault, must):
+    from lbw_engine.cli.bench_faults import counts
+
+    assert counts(fault, {"x-a"}) is must

@@ -104,7 +104,8 @@ def test_displacing_a_support_lets_its_rider_fall():
     world.settle(1.5)
     assert world.y["p"] == 360.0 and world.positions()["p"][0] == pytest.approx(x0 - 80.0, abs=1)
     assert world.supports()["y"] == ("table",)  # it fell off the plank slid from under it
-    assert inj.injected == [{"kind": "displace", "achieve": 1, "t": round(t, 2), "object": "p"}]
+    assert inj.injected == [{"kind": "displace", "achieve": 1, "t": round(t, 2), "object": "p",
+                             "moved_mm": pytest.approx(100.0, abs=1)}]
 
 
 def test_removing_an_object_takes_it_out_of_the_world():
@@ -243,3 +244,18 @@ def test_a_nudge_slides_a_used_block_a_few_mm_once_the_structure_is_built(seed):
     assert fault["object"] in sc.execute.objects
     moved = [abs(v) for v in fault["by"] if v != 0]
     assert len(moved) == 1 and NUDGE_MM[0] - 0.5 <= moved[0] <= NUDGE_MM[1] + 0.5
+
+
+def test_a_displace_records_how_far_its_object_went_when_a_neighbour_stops_it():
+    """Along y a displaced block stops at the first block it meets (pymunk has no y); the
+    record says how far it went, so the fault bench does not count a nudge that moved a
+    wedged cube 3 mm as a fault the monitor missed (fault bench 7000)."""
+    text = HEAD.replace("    y: {shape: brick, at: [60, 300], on: p}\n",
+                        "    c1: {shape: brick, at: [-200, 200]}\n"
+                        "    c2: {shape: brick, at: [-200, 234]}\n")
+    world = World(load_text(text, "f.yaml").execute.objects.values())
+    world.settle(0.3)
+    inj = FaultInjector(world, (Fault("displace", 1, "c1", (0.0, 9.0)),), {"c1": "c1"})
+    inj.begin(1)
+    inj.end(1)
+    assert inj.injected[0]["moved_mm"] == pytest.approx(4.0, abs=0.2)
