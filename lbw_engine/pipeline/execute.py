@@ -76,7 +76,7 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     InputError when the plan and the scenario do not fit together; a task that
     cannot be done or does not verify gives ``success=False`` with a message.
     """
-    from perception.vision.camera import default_cameras
+    from perception.vision.camera import back_camera, default_cameras
     from perception.world.faults import FaultInjector
     from perception.world.physics import World
     from perception.world.render import Renderer
@@ -124,7 +124,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     shape_of = {n: taught[n]["shape"] for n in matching.assigned}
     # blocks per shape: the first look's count, or the plan's where it names more
     most = Counter(m.shape for m in measured) | Counter(shape_of.values())
-    eyes = Eyes(world, renderer, sc.shapes, shape_of, most)
+    back = Renderer({"back": back_camera()}, pixel_noise=sc.noise.pixel, seed=sc.seed + 2)
+    eyes = Eyes(world, renderer, sc.shapes, shape_of, most, back)
     eyes.others = [(b.shape, b.position, b.size) for b in model.bodies.values()
                    if not b.relevant]
     injector = FaultInjector(world, sc.faults, {n: n for n in world.names})

@@ -68,21 +68,24 @@ class Look:
     spares: list[int]
     measured: list[Measured]
     inferred: list[str] = field(default_factory=list)  # hidden, accepted at their expected pose
+    vacant: set[str] = field(default_factory=set)  # hidden, but the back view shows them gone
 
 
 class Eyes:
     """Render, find and name: the state of the workspace as the cameras show it."""
 
     def __init__(self, world: Any, renderer: Any, shapes: Mapping[str, Any],
-                 shape_of: Mapping[str, str], most: Mapping[str, int] | None = None) -> None:
+                 shape_of: Mapping[str, str], most: Mapping[str, int] | None = None,
+                 back: Any | None = None) -> None:
         """``world`` is only rendered (the scene), never read by the measurement. ``most``:
         how many blocks of each shape the workspace holds (the first look's count; no
-        fault adds a block)."""
+        fault adds a block). ``back`` renders the third view (``back_camera``)."""
         from perception.vision.camera import default_cameras
         from perception.vision.vfd.objects import ObjectFinder
         from perception.vision.vfd.resources import VisionResources
 
         self.world, self.renderer, self.shapes, self.shape_of = world, renderer, shapes, shape_of
+        self.back = back
         self.most = dict(most or {})
         self.cameras = default_cameras()
         self.finder = ObjectFinder(self.cameras, VisionResources())
@@ -105,6 +108,8 @@ class Eyes:
         boxes, named, inferred = explain(self.cameras, images, found, want | others, self.most)
         named = {n: i for n, i in named.items() if n not in others}
         inferred = [n for n in inferred if n not in others]
+        boxes, named, vacant = self._vacant(boxes, named, inferred, want)
+        inferred = [n for n in inferred if n not in vacant]
         self.windows = [(cam, _rect(self.cameras[cam], b.position, b.size), "object")
                         for b in boxes for cam in ("top", "side")]
         measured = [Measured(f.shape, tuple(f.position), tuple(f.size)) for f in boxes]
@@ -120,7 +125,28 @@ class Eyes:
             states[f"{SPARE_PREFIX}{i}"] = ObjectState(measured[i].position, measured[i].size)
         self.others = [(measured[i].shape, measured[i].position, measured[i].size)
                        for i in spares]
-        return Look(states, spares, measured, inferred)
+        return Look(states, spares, measured, inferred, vacant)
+
+    def _vacant(self, boxes: list, named: dict[str, int], inferred: list[str],
+                want: Mapping[str, tuple]) -> tuple[list, dict[str, int], set[str]]:
+        """The plan objects whose expected spot the back view shows empty
+        (``objects_back.vacant``), their boxes taken out of the look: a block the two
+        views do not show is posed with its structure or inferred, whichever way the
+        look named it (a table's back leg taken away was posed with its top)."""
+        from perception.vision.vfd.objects_back import vacant
+
+        if self.back is None:
+            return boxes, named, set()
+        img = self.back.render(self.world.scene())["back"]
+        cam = self.back.cameras["back"]
+        out = {n for n in want if n in self.shape_of and vacant(cam, img, want[n][1], want[n][2],
+                          [(b.position, b.size) for k, b in enumerate(boxes)
+                           if k != named.get(n)])}
+        drop = {named[n] for n in out if n in named}
+        keep = [k for k in range(len(boxes)) if k not in drop]
+        new = {old: k for k, old in enumerate(keep)}
+        return ([boxes[k] for k in keep],
+                {n: new[i] for n, i in named.items() if i in new}, out)
 
 
 @dataclass
@@ -229,7 +255,8 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         redo = undone(done, wrong, plan_supports)
         rest = todo
         done = [u for u in done if u not in redo]
-        hidden = hidden_under([n for n in sizes if n not in seen.states and n not in hid],
+        hidden = hidden_under([n for n in sizes if n not in seen.states and n not in hid
+                               and n not in seen.vacant],
                               unit.expected, sizes, seen.measured)
         hid |= set(hidden)
         fresh = remodel(ruleset, eyes.shapes, eyes.shape_of, seen.states, seen.spares,

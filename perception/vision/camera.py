@@ -175,3 +175,16 @@ def default_cameras(size: int = 256) -> dict[str, Camera]:
     side = Camera.look_at(side_eye, table_centre, side_up,
                           _fit_focal(side_eye, table_centre, side_up, sz), sz, "side")
     return {"top": top, "side": side}
+
+
+def back_camera(size: int = 512) -> Camera:
+    """The execution workspace's third view (the paper watched execution with a camera pair
+    of its own): from behind the table's far right corner, raised like the side camera, so
+    that a block hidden from the top and the side (a table's back leg under its top, a
+    pyramid's middle cube behind the front one) shows from another direction. Its images
+    are only asked whether a hidden block's spot is empty (``objects_back.vacant``)."""
+    sz = (size, size)
+    centre = (WORKSPACE_LO + WORKSPACE_HI) / 2.0
+    target = np.array([centre[0], centre[1], 60.0])
+    eye, up = (900.0, 200.0 + 900.0, 520.0), (0.0, 0.0, 1.0)
+    return Camera.look_at(eye, target, up, _fit_focal(eye, target, up, sz), sz, "back")
