@@ -18,7 +18,7 @@ from collections.abc import Iterable
 
 import pymunk
 
-from lbw_engine.model.geometry import TABLE_X, resting_on
+from lbw_engine.model.geometry import TABLE_X, TABLE_Y, resting_on
 from lbw_engine.rules import Roles
 from perception.world.balance import block_boxes, tip_along_y
 from perception.world.hand import TIP, Gripper
@@ -29,6 +29,7 @@ GRAVITY = 9810.0  # mm/s^2
 DENSITY = 0.001  # g/mm^3 (wood-like); masses in g
 FRICTION = 0.7
 
+TABLE_CATEGORY = 0b10  # the table's collision category: a block past its edge leaves it out
 SLOP = 0.1  # mm: pymunk's resting penetration (Space.collision_slop)
 # Solver resolution per 1/30 s frame: at 4 substeps and 10 iterations free-standing towers
 # rocked and fell untouched (helper round 15, AG; docs/world.md, tests/world/test_stacks.py)
@@ -62,6 +63,7 @@ class World:
         table = pymunk.Poly(space.static_body, [(TABLE_X[0], -20), (TABLE_X[1], -20),
                                                 (TABLE_X[1], 0), (TABLE_X[0], 0)])
         table.friction = FRICTION
+        table.filter = pymunk.ShapeFilter(categories=TABLE_CATEGORY)
         space.add(table)
         self.names: list[str] = []
         self.shapes: dict[str, pymunk.Shape] = {}
@@ -128,6 +130,12 @@ class World:
         clear = self._lands_clear(name, float(by[0]), float(by[1]))
         self.y[name] += float(by[1]) if clear else self.free_run_y(name, float(by[1]))
         body.position = (x + float(by[0]), z)  # pymunk parts blocks overlapping in x-z
+        if not TABLE_Y[0] <= self.y[name] <= TABLE_Y[1]:
+            # past the table's edge along y: the table (a slab along all of y in x-z)
+            # lets it fall, as past an x edge (helper round 22: a cube slid off at y 446
+            # stood in the air and was picked back)
+            self.shapes[name].filter = pymunk.ShapeFilter(
+                mask=pymunk.ShapeFilter.ALL_MASKS() ^ TABLE_CATEGORY)
         self.space.reindex_shapes_for_body(body)
         self._wake()
 
