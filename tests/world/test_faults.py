@@ -261,13 +261,13 @@ def test_a_displace_records_how_far_its_object_went_when_a_neighbour_stops_it():
     assert inj.injected[0]["moved_mm"] == pytest.approx(4.0, abs=0.2)
 
 
-@pytest.mark.parametrize("by", [(0.0, 120.0), (0.0, -320.0), (260.0, 0.0)],
+@pytest.mark.parametrize("by", [(0.0, 120.0), (0.0, -350.0), (80.0, 0.0)],
                          ids=["past-y-400", "past-y-0", "past-x-300"])
 def test_a_block_slid_past_the_tables_edge_falls(by):
     """Helper round 22 (f20, f24): pymunk's table is a slab along all of y, so a cube slid
     past a y edge stood in the air and the robot picked it back (exit 0)."""
     text = HEAD.replace("    y: {shape: brick, at: [60, 300], on: p}\n",
-                        "    c1: {shape: brick, at: [100, 330]}\n")
+                        "    c1: {shape: brick, at: [250, 330]}\n")
     world = World(load_text(text, "f.yaml").execute.objects.values())
     world.settle(0.3)
     world.displace("c1", by)
