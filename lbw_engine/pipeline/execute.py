@@ -134,6 +134,8 @@ def execute_plan(plan: Plan, sc: Any, ruleset: RuleSet,
     robot = Robot(world, rules.arm_frame, rules.home, on_step=_steps(injector, watch, on_step),
                   finger=rules.finger, max_opening=rules.max_opening)
     report["via"] = via
+    if watch is not None:  # the carry watched through the side and back views
+        watch.robot, watch.back = robot, back
     mon = Monitored(watch=watch)
     report["monitor"] = {"detections": mon.detections, "repairs": mon.repairs,
                          "units": mon.spans, "operations": mon.operations}

@@ -224,6 +224,10 @@ def run_monitored(plan: Plan, ruleset: RuleSet, model: EnvModel, robot: Any, eye
         seen_ops, missed = ([], set()) if watch is None else _compare_ops(
             unit, watch.end(), moving, robot.world.time, out.operations)
         out.detections.extend(seen_ops)
+        out.detections.extend(  # a carried block seen gone from between the jaws
+            {"operator": unit.operator, "object": unit.focus, "expected": "held",
+             "observed": "not between the jaws", "t": t, "kind": "drop"}
+            for t in (watch.drops if watch is not None else []))
         # a place the watch did not see is redone once (a second miss is the recognizer's)
         dropped = (missed & set(eyes.shape_of)) - suspected  # plan objects only
         suspected |= dropped

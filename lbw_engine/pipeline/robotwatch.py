@@ -28,6 +28,7 @@ from typing import Any
 from lbw_engine.rules import RuleSet
 
 WATCH_FPS = 30.0  # frames per second of robot time, as the demonstration is watched
+DROP_FRAMES = 3  # frames in a row that show the jaws empty while gripping: a drop
 
 
 class RobotWatch:
@@ -47,6 +48,11 @@ class RobotWatch:
         self.views_t: float | None = None
         self.rec: Any = None
         self.frames = 0  # frames recognized, all units
+        # the carry watched too (``perception.vision.vfd.held``): set by the caller
+        self.robot: Any = None  # its jaws' pose, width and own sense of gripping
+        self.back: Any = None  # the third view's renderer (monitor.Eyes.back)
+        self.drops: list[float] = []  # times a carried block was seen gone, this unit
+        self._empty = 0
 
     def begin(self, located: Mapping[str, tuple[str, Sequence[float]]]) -> None:
         """Start watching a unit from the monitor's last look (name -> shape, centre)."""
@@ -54,6 +60,7 @@ class RobotWatch:
 
         self.rec, _ = new_recognizer(self.renderer.cameras, self.shapes, self.rules,
                                      located=located)
+        self.drops, self._empty = [], 0
 
     def end(self) -> list[Any]:
         """Stop watching the unit: the recognized ACT-nodes of its Task, in order."""
@@ -78,6 +85,30 @@ class RobotWatch:
         self.index += 1
         self.frames += 1
         self.rec.step(world.time, frame)
+        self._carry(world, views)
+
+    def _carry(self, world: Any, views: Mapping[str, Any]) -> None:
+        """While the robot feels its jaws closed on a block, whether the views still show
+        a block between them; DROP_FRAMES frames in a row without: it was dropped."""
+        from perception.vision.vfd.held import jaw_space, jaws_empty
+        from perception.world.robot import FINGERTIP
+
+        robot = self.robot
+        if robot is None or not robot.gripping:
+            self._empty = 0
+            return
+        g = robot.gripper
+        cams, images = dict(self.renderer.cameras), {"side": views["side"]}
+        if self.back is not None:
+            cams |= self.back.cameras
+            images |= self.back.render(world.scene())
+        own = [(b.center, b.size) for b in g.boxes()]
+        empty = jaws_empty(cams, images, jaw_space(g.position, g.axis, g.opening, FINGERTIP),
+                           own)
+        if self._empty < DROP_FRAMES:  # one detection per carry
+            self._empty = self._empty + 1 if empty else (0 if empty is False else self._empty)
+            if self._empty == DROP_FRAMES:
+                self.drops.append(round(world.time, 2))
 
     def render(self, world: Any) -> dict[str, Any]:
         """The views of the world now, rendered once per step (the video reuses them)."""

@@ -65,6 +65,9 @@ class Robot:
         self.gripper = world.add_gripper(Gripper(tuple(home), opening=80.0, kind="arm",
                                                  geometry=geometry, y_contacts=True))
         self.log = RobotLog()
+        # the jaws stopped on something at the last close-hand, and have not opened since:
+        # the robot's own sense of holding a block (its jaw width), never the simulator's
+        self.gripping = False
         self.current: Command | None = None
         self._do = {"amove": self.amove, "open-hand": self.open_hand,
                     "close-hand": self.close_hand, "turn-wrist": self.turn_wrist,
@@ -124,6 +127,7 @@ class Robot:
 
     def open_hand(self, width: float) -> None:
         """Open the jaws to ``width`` mm (releases a held block)."""
+        self.gripping = False
         self.gripper.open(width)
         self._wait(lambda: self.gripper.settled, 3.0)
         self._wait(lambda: False, 0.1)  # let a released block come to rest
@@ -132,6 +136,7 @@ class Robot:
         """Close the jaws until they hold a block or meet."""
         self.gripper.close()
         self._wait(lambda: self.gripper.settled, 3.0)
+        self.gripping = self.gripper.opening > 1.0
         self.log.grasps.append(self.gripper.holding)
 
     # -- stepping -------------------------------------------------------------------
