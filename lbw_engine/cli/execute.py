@@ -52,7 +52,8 @@ def run(args: argparse.Namespace) -> int:
         out.write_text("commands.txt", result.commands_text)
         out.write_json("execution.json", result.report)
         write_views(out, result.views)
-    done = f"plan {plan.root} in {sc.name}: {result.report.get('commands', 0)} commands"
+    ran = result.report.get("commands")  # counted when the run reached its verdict
+    done = f"plan {plan.root} in {sc.name}" + (f": {ran} commands" if ran is not None else "")
     for line in fault_notes(result.report):
         print(f"lbw execute: {line}", file=sys.stderr)
     if not result.success:
