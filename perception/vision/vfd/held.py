@@ -19,7 +19,7 @@ import numpy as np
 
 from perception.vision.camera import Camera
 from perception.vision.vfd.base import silhouette
-from perception.vision.vfd.objects_back import box_mask
+from perception.vision.vfd.objects_back import box_mask, box_roi
 
 BAND_MM = (2.0, 8.0)  # the space above the fingertips that a held block fills, mm
 SHARE = 0.6  # of the jaws' opening (and of FINGER_MM across): inside the block's faces
@@ -47,9 +47,12 @@ def jaws_empty(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
     said = []
     for name, img in images.items():
         cam = cameras[name]
-        mask = box_mask(cam, *space)
+        roi = box_roi(cam, *space)
+        mask = box_mask(cam, *space, roi)
         for c, s in own:
-            mask &= ~box_mask(cam, c, s)
+            mask &= ~box_mask(cam, c, s, roi)
         if int(mask.sum()) >= MIN_PX:
-            said.append(float(silhouette(img)[mask].mean()) <= EMPTY_SHARE)
+            u0, v0, u1, v1 = roi
+            lit = silhouette(img[v0:v1, u0:u1])[mask]
+            said.append(float(lit.mean()) <= EMPTY_SHARE)
     return all(said) if said else None

@@ -26,15 +26,33 @@ MIN_PX = 30  # uncovered pixels needed to decide (a 30 mm leg shows 100-300 at 5
 EDGE_PX = 2  # the mask shrunk by this much: a neighbour's edge or a few mm off pose
 
 
-def box_mask(cam: Camera, center: Sequence[float], size: Sequence[float]) -> np.ndarray:
-    """The pixels of an axis-aligned box's projected outline (whole image, boolean)."""
+def box_mask(cam: Camera, center: Sequence[float], size: Sequence[float],
+             roi: tuple[int, int, int, int] | None = None) -> np.ndarray:
+    """The pixels of an axis-aligned box's projected outline, boolean, over the whole
+    image or over ``roi`` = (u0, v0, u1, v1) only."""
     c, h = np.asarray(center, float), np.asarray(size, float) / 2.0
     corners = np.array([c + h * (sx, sy, sz) for sx in (-1, 1) for sy in (-1, 1)
                         for sz in (-1, 1)])
-    hull = cv2.convexHull(np.rint(cam.project(corners) * 16).astype(np.int32))
-    mask = np.zeros((cam.size[1], cam.size[0]), np.uint8)
+    u0, v0, u1, v1 = roi if roi is not None else (0, 0, cam.size[0], cam.size[1])
+    if u1 <= u0 or v1 <= v0:  # out of the image
+        return np.zeros((max(v1 - v0, 0), max(u1 - u0, 0)), bool)
+    uv = cam.project(corners) - (u0, v0)
+    hull = cv2.convexHull(np.rint(uv * 16).astype(np.int32))
+    mask = np.zeros((v1 - v0, u1 - u0), np.uint8)
     cv2.fillConvexPoly(mask, hull, 1, cv2.LINE_8, 4)
     return mask > 0
+
+
+def box_roi(cam: Camera, center: Sequence[float], size: Sequence[float], pad: int = 2
+            ) -> tuple[int, int, int, int]:
+    """The image rectangle around a box's projection, ``pad`` pixels wider, in the image."""
+    c, h = np.asarray(center, float), np.asarray(size, float) / 2.0
+    uv = cam.project(np.array([c + h * (sx, sy, sz) for sx in (-1, 1) for sy in (-1, 1)
+                               for sz in (-1, 1)]))
+    lo, hi = np.floor(uv.min(axis=0)) - pad, np.ceil(uv.max(axis=0)) + pad + 1
+    w, hgt = cam.size
+    return (int(min(max(lo[0], 0), w)), int(min(max(lo[1], 0), hgt)),
+            int(min(max(hi[0], 0), w)), int(min(max(hi[1], 0), hgt)))
 
 
 def vacant(cam: Camera, img: np.ndarray, center: Sequence[float], size: Sequence[float],
@@ -42,9 +60,13 @@ def vacant(cam: Camera, img: np.ndarray, center: Sequence[float], size: Sequence
     """Whether the view shows the box's spot empty: of its outline, the pixels outside
     every box of ``others`` (one nearer the camera may cover it; one behind it would show
     where it is missing) are at least MIN_PX, and at most VACANT_SHARE of them are lit."""
-    mask = box_mask(cam, center, size)
+    roi = box_roi(cam, center, size)
+    mask = box_mask(cam, center, size, roi)
+    if not mask.any():
+        return False
     for c, s in others:
-        mask &= ~box_mask(cam, c, s)
+        mask &= ~box_mask(cam, c, s, roi)
     mask = cv2.erode(mask.astype(np.uint8), np.ones((2 * EDGE_PX + 1,) * 2, np.uint8)) > 0
     n = int(mask.sum())
-    return n >= MIN_PX and float(silhouette(img)[mask].mean()) <= VACANT_SHARE
+    u0, v0, u1, v1 = roi
+    return n >= MIN_PX and float(silhouette(img[v0:v1, u0:u1])[mask].mean()) <= VACANT_SHARE
