@@ -29,7 +29,7 @@ GRAVITY = 9810.0  # mm/s^2
 DENSITY = 0.001  # g/mm^3 (wood-like); masses in g
 FRICTION = 0.7
 
-TABLE_CATEGORY = 0b10  # the table's collision category: a block past its edge leaves it out
+TABLE_CATEGORY = 0b10  # the table's collision category (a block past its edge leaves it)
 SLOP = 0.1  # mm: pymunk's resting penetration (Space.collision_slop)
 # Solver resolution per 1/30 s frame: at 4 substeps and 10 iterations free-standing towers
 # rocked and fell untouched (helper round 15, AG; docs/world.md, tests/world/test_stacks.py)
@@ -120,10 +120,9 @@ class World:
 
     def displace(self, name: str, by: tuple[float, float]) -> None:
         """Move a block by (dx, dy) mm (a fault, perception/world/faults.py); riders may
-        fall. Where another block stands in the way of its new place, its move along y
-        stops where it meets it: pymunk, which parts blocks overlapping in x-z, has no y
-        (moved into a post along y, a cube stood inside it, and the cameras read the two
-        as one block, so both were 'gone': helper round 10, z07).
+        fall. Along y it stops at a block in the way (pymunk has no y: moved into a post,
+        a cube stood inside it, helper round 10, z07). Past the table's y edges it leaves
+        the table's category and falls, as past an x edge (round 22: it stood in the air).
         """
         body = self.shapes[name].body
         x, z = body.position
@@ -131,9 +130,6 @@ class World:
         self.y[name] += float(by[1]) if clear else self.free_run_y(name, float(by[1]))
         body.position = (x + float(by[0]), z)  # pymunk parts blocks overlapping in x-z
         if not TABLE_Y[0] <= self.y[name] <= TABLE_Y[1]:
-            # past the table's edge along y: the table (a slab along all of y in x-z)
-            # lets it fall, as past an x edge (helper round 22: a cube slid off at y 446
-            # stood in the air and was picked back)
             self.shapes[name].filter = pymunk.ShapeFilter(
                 mask=pymunk.ShapeFilter.ALL_MASKS() ^ TABLE_CATEGORY)
         self.space.reindex_shapes_for_body(body)
@@ -295,8 +291,7 @@ class World:
         across = 1 - g.axis
         half = g.geometry.finger[1] / 2  # a finger's depth, across the jaws
         mid = g.y if across == 1 else g.body.position[0]
-        fz0 = g.body.position[1] - TIP
-        fz1 = fz0 + g.geometry.finger[2]
+        fz1 = (fz0 := g.body.position[1] - TIP) + g.geometry.finger[2]
         found = []  # (gap, height spanned, bottom, name)
         for name in self.names:
             bb = self.shapes[name].bb
@@ -379,11 +374,8 @@ class World:
         return {n: self.shapes[n].body.angle for n in self.names}
 
     def supports(self) -> dict[str, tuple[str, ...]]:
-        """What each block rests on, from geometry: ("table",), supports, or () (held/falling).
-
-        The one definition of lbw_engine.model.geometry, on each block's bounding box
-        (a tilted block's box is its shape's x-z bounds and its y-extent).
-        """
+        """What each block rests on, from geometry: ("table",), supports, or () (held or
+        falling): lbw_engine.model.geometry's definition, on each block's bounding box."""
         held = {g.holding for g in self.grippers}
         boxes = block_boxes(self)
         return {name: () if name in held else tuple(resting_on(name, boxes))
