@@ -19,7 +19,7 @@ import numpy as np
 
 from perception.vision.camera import Camera
 from perception.vision.vfd.base import silhouette
-from perception.vision.vfd.objects_back import box_mask, box_roi
+from perception.vision.vfd.objects_back import uncovered
 
 BAND_MM = (2.0, 8.0)  # the space above the fingertips that a held block fills, mm
 SHARE = 0.6  # of the jaws' opening (and of FINGER_MM across): inside the block's faces
@@ -46,11 +46,7 @@ def jaws_empty(cameras: Mapping[str, Camera], images: Mapping[str, np.ndarray],
     ``own``: the robot's fingers and palm) shows it dark; None when none shows enough."""
     said = []
     for name, img in images.items():
-        cam = cameras[name]
-        roi = box_roi(cam, *space)
-        mask = box_mask(cam, *space, roi)
-        for c, s in own:
-            mask &= ~box_mask(cam, c, s, roi)
+        mask, roi = uncovered(cameras[name], *space, own)
         if int(mask.sum()) >= MIN_PX:
             u0, v0, u1, v1 = roi
             lit = silhouette(img[v0:v1, u0:u1])[mask]
