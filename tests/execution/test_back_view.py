@@ -9,39 +9,25 @@ no detection, no repair, exit 0 without a spare. The back camera
 naming it.
 """
 
-import json
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-from lbw_engine.cli import main
 from perception.vision.camera import back_camera
 from perception.vision.vfd.objects_back import vacant
 from perception.world.render import Renderer
 from perception.world.scene import Box
 
-DATA = Path(__file__).resolve().parent / "data"
 
-
-def _run(tmp_path, capsys, name):
-    out = tmp_path / "out"
-    code = main(["execute", str(DATA / f"{name}.plan.json"), str(DATA / f"{name}.yaml"),
-                 "--out", str(out)])
-    err = capsys.readouterr().err
-    return code, json.loads((out / "execution.json").read_text()), err
-
-
-def test_a_hidden_leg_taken_away_is_replaced_by_the_spare(tmp_path, capsys):
-    code, report, err = _run(tmp_path, capsys, "table-back-leg-removed-spare")
+def test_a_hidden_leg_taken_away_is_replaced_by_the_spare(execute_data):
+    code, report, err = execute_data("table-back-leg-removed-spare")
     assert code == 0, (err, report.get("failure"))
     assert [f["kind"] for f in report["faults"]] == ["remove"]
     assert report["monitor"]["detections"] and report["monitor"]["repairs"]
     assert report["verification"] == {"cameras": True, "ground_truth": True}
 
 
-def test_a_hidden_leg_taken_away_without_a_spare_ends_the_run_naming_it(tmp_path, capsys):
-    code, report, err = _run(tmp_path, capsys, "table-back-leg-removed-no-spare")
+def test_a_hidden_leg_taken_away_without_a_spare_ends_the_run_naming_it(execute_data):
+    code, report, err = execute_data("table-back-leg-removed-no-spare")
     assert code == 1, err
     assert report["failure"].startswith("execution: 'l3' (execute.objects 'd') (shape leg) "
                                         "is gone")

@@ -8,29 +8,18 @@ the jaw width at the last close-hand), the side and back views are asked whether
 space just above its fingertips is still lit (``perception.vision.vfd.held``).
 """
 
-import json
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-from lbw_engine.cli import main
 from perception.vision.camera import back_camera, default_cameras
 from perception.vision.vfd.held import jaw_space, jaws_empty
 from perception.world.hand import TIP, Gripper
 from perception.world.render import Renderer
 from perception.world.scene import Box
 
-DATA = Path(__file__).resolve().parent / "data"
 
-
-def test_a_drop_that_lands_on_its_goal_is_detected(tmp_path, capsys):
-    name = "plate-dropped-onto-its-goal"
-    out = tmp_path / "out"
-    code = main(["execute", str(DATA / f"{name}.plan.json"), str(DATA / f"{name}.yaml"),
-                 "--out", str(out)])
-    err = capsys.readouterr().err
-    report = json.loads((out / "execution.json").read_text())
+def test_a_drop_that_lands_on_its_goal_is_detected(execute_data):
+    code, report, err = execute_data("plate-dropped-onto-its-goal")
     assert code == 0, err
     (fault,) = report["faults"]
     drops = [d for d in report["monitor"]["detections"] if d["kind"] == "drop"]

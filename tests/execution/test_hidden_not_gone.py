@@ -13,16 +13,10 @@ table. The arm now stops a downward move when its fingers are pushed back harder
 than its force limit (``perception.world.robot.PRESS_LIMIT``).
 """
 
-import json
-from pathlib import Path
-
 import pytest
 
-from lbw_engine.cli import main
 from lbw_engine.do.matching import Measured
 from lbw_engine.do.monitor import hidden_under
-
-DATA = Path(__file__).resolve().parent / "data"
 
 
 @pytest.mark.parametrize("name, kind", [
@@ -34,12 +28,8 @@ DATA = Path(__file__).resolve().parent / "data"
     # than the full 45 mm beside it (monitor.ASIDE_CLEAR_MM; helper round 22, f02)
     ("table-top-set-aside-on-a-crowded-table", "displace"),
 ])
-def test_a_covered_block_is_uncovered_and_the_structure_rebuilt(tmp_path, capsys, name, kind):
-    out = tmp_path / "out"
-    code = main(["execute", str(DATA / f"{name}.plan.json"), str(DATA / f"{name}.yaml"),
-                 "--out", str(out)])
-    err = capsys.readouterr().err
-    report = json.loads((out / "execution.json").read_text())
+def test_a_covered_block_is_uncovered_and_the_structure_rebuilt(execute_data, name, kind):
+    code, report, err = execute_data(name)
     assert code == 0, (err, report.get("failure"))
     assert [f["kind"] for f in report["faults"]] == [kind]
     assert report["monitor"]["detections"] and report["monitor"]["repairs"]

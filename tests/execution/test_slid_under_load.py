@@ -10,14 +10,7 @@ where the finder read it (objects_pieces.shifted). One row per structure: the fa
 must be detected, repaired and verified by both verdicts.
 """
 
-import json
-from pathlib import Path
-
 import pytest
-
-from lbw_engine.cli import main
-
-DATA = Path(__file__).resolve().parent / "data"
 
 
 @pytest.mark.parametrize("name", [
@@ -26,12 +19,8 @@ DATA = Path(__file__).resolve().parent / "data"
     "slid-4tower-w-x7",         # a 4-tower's bottom cube, three cubes on it
     "slid-post-under-plank-x6",  # a post under a bridge's plank, 6 mm
 ])
-def test_a_block_slid_under_its_load_is_seen_and_put_back(tmp_path, capsys, name):
-    out = tmp_path / "out"
-    code = main(["execute", str(DATA / f"{name}.plan.json"), str(DATA / f"{name}.yaml"),
-                 "--out", str(out)])
-    err = capsys.readouterr().err
-    report = json.loads((out / "execution.json").read_text())
+def test_a_block_slid_under_its_load_is_seen_and_put_back(execute_data, name):
+    code, report, err = execute_data(name)
     assert code == 0, err
     assert [f["kind"] for f in report["faults"]] == ["displace"]
     assert any(d["kind"] == "position" for d in report["monitor"]["detections"]), \
@@ -40,17 +29,13 @@ def test_a_block_slid_under_its_load_is_seen_and_put_back(tmp_path, capsys, name
     assert report["verification"] == {"cameras": True, "ground_truth": True}
 
 
-def test_a_block_read_off_along_the_side_cameras_line_of_sight_stays_posed(tmp_path, capsys):
+def test_a_block_read_off_along_the_side_cameras_line_of_sight_stays_posed(execute_data):
     """Bench 1201 (gaps, nominal): four cubes under a plate, a table. The finder read one
     5 mm nearer the side camera than it stood; that move is half a pixel in the side view,
     but the silhouettes fit 15 pixels better there, and the monitor reported the cube off
     its goal and tried a repair it could not do (no room for the jaws). A posed block is
     moved to a reading only where the side view can show the move."""
-    out = tmp_path / "out"
-    code = main(["execute", str(DATA / "gen-1201-nominal.plan.json"),
-                 str(DATA / "gen-1201-nominal.yaml"), "--out", str(out)])
-    err = capsys.readouterr().err
-    report = json.loads((out / "execution.json").read_text())
+    code, report, err = execute_data("gen-1201-nominal")
     assert code == 0, err
     assert report["monitor"]["detections"] == []
     assert report["verification"] == {"cameras": True, "ground_truth": True}
